@@ -1,0 +1,28 @@
+"""curvature-lab: exact curvature of free-form surfaces for teaching (Versuch 6: Krümmungsvisualisierung)."""
+
+from . import bezier, bspline, colormaps, curvature
+from .curvature import Curvature, DegeneratePointWarning, PointClass
+from .derivatives import Derivatives
+from .patches import BezierPatch, BezierPatches, ColorMap, CurvatureMode
+from .surface import BezierSurface, BSplineSurface, ParametricSurface, Surface
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "bezier",
+    "bspline",
+    "colormaps",
+    "curvature",
+    "Curvature",
+    "DegeneratePointWarning",
+    "PointClass",
+    "Derivatives",
+    "BezierPatch",
+    "BezierPatches",
+    "ColorMap",
+    "CurvatureMode",
+    "BezierSurface",
+    "BSplineSurface",
+    "ParametricSurface",
+    "Surface",
+]

@@ -1,0 +1,212 @@
+r"""Exact curvature references with sympy: the ground truth of tests and checks.
+
+Two kinds of input:
+
+* symbolic surfaces :math:`\mathbf x(u, v)` (sympy expressions), differentiated
+  exactly (:func:`curvature_exprs`, :func:`exact_curvature`);
+* Bézier nets with rational coordinates (any float is a binary rational, so
+  every float net is one), evaluated in exact rational arithmetic
+  (:func:`bezier_curvature_exact`, :func:`bezier_corner_curvature_exact`).
+
+With :math:`\mathbf Q = \mathbf b_u\times\mathbf b_v`, :math:`q = |\mathbf Q|^2 = EG - F^2`
+and :math:`A, B, C = \mathbf Q\cdot(\mathbf b_{uu}, \mathbf b_{uv}, \mathbf b_{vv})`
+(Dill 1981, appendix)
+
+.. math::
+
+    K = \frac{AC - B^2}{q^2},\qquad H = \frac{AG - 2BF + CE}{2\,q^{3/2}},\qquad
+    \kappa_{1,2} = H \pm\sqrt{H^2 - K},
+
+so for a rational net ``K`` and ``H^2 - K`` are rational numbers and ``H``,
+:math:`\kappa_{1,2}` are exact algebraic numbers.
+"""
+
+from fractions import Fraction
+from math import comb
+from typing import NamedTuple
+
+import numpy as np
+import sympy as sp
+
+__all__ = [
+    "ExactCurvature",
+    "curvature_from_derivatives",
+    "curvature_exprs",
+    "exact_curvature",
+    "bezier_derivatives_exact",
+    "bezier_curvature_exact",
+    "bezier_corner_curvature_exact",
+    "to_float",
+    "random_rational_net",
+]
+
+
+class ExactCurvature(NamedTuple):
+    """Exact ``K, H, k1, k2`` as sympy numbers or expressions."""
+
+    K: sp.Expr
+    H: sp.Expr
+    k1: sp.Expr
+    k2: sp.Expr
+
+
+def curvature_from_derivatives(bu, bv, buu, buv, bvv):
+    """Exact curvature from exact first and second derivatives (sympy 3-vectors).
+
+    Raises ``ValueError`` at a degenerate point (``b_u x b_v = 0``), where the
+    formulas have no value.
+    """
+    bu, bv, buu, buv, bvv = (sp.Matrix(x) for x in (bu, bv, buu, buv, bvv))
+    Q = bu.cross(bv)
+    q = Q.dot(Q)
+    if q == 0:
+        raise ValueError("degenerate point: b_u x b_v = 0, the curvature formulas have no value there")
+    E, F, G = bu.dot(bu), bu.dot(bv), bv.dot(bv)
+    A, B, C = Q.dot(buu), Q.dot(buv), Q.dot(bvv)
+    K = (A * C - B**2) / q**2
+    H = (A * G - 2 * B * F + C * E) / (2 * q * sp.sqrt(q))
+    disc = (A * G - 2 * B * F + C * E) ** 2 / (4 * q**3) - K
+    root = sp.sqrt(disc)
+    return ExactCurvature(K, H, H + root, H - root)
+
+
+def curvature_exprs(xyz, uv):
+    """Symbolic ``K, H, k1, k2`` of the surface ``xyz`` in the parameters ``uv`` (not simplified)."""
+    X = sp.Matrix([sp.sympify(c) for c in xyz])
+    u, v = uv
+    return curvature_from_derivatives(X.diff(u), X.diff(v), X.diff(u, 2), X.diff(u).diff(v), X.diff(v, 2))
+
+
+def exact_curvature(xyz, uv, point):
+    """Exact curvature of a symbolic surface at a point (substituted before the algebra).
+
+    Parameters
+    ----------
+    xyz : sequence of three sympy expressions
+    uv : (Symbol, Symbol)
+    point : (number, number)
+        Exact values are kept exact (use ``sympy.Rational`` or ``sympy.pi``).
+    """
+    X = sp.Matrix([sp.sympify(c) for c in xyz])
+    u, v = uv
+    at = {u: sp.nsimplify(point[0]) if isinstance(point[0], float) else point[0],
+          v: sp.nsimplify(point[1]) if isinstance(point[1], float) else point[1]}
+    derivs = [X.diff(u), X.diff(v), X.diff(u, 2), X.diff(u).diff(v), X.diff(v, 2)]
+    return curvature_from_derivatives(*(d.subs(at) for d in derivs))
+
+
+def _fractions(array):
+    return np.vectorize(lambda x: x if isinstance(x, Fraction) else Fraction(x), otypes=[object])(np.asarray(array))
+
+
+def _bernstein_exact(n, t, order):
+    """Values of the ``order``-th derivative of all B_i^n at the Fraction t (via forward differences)."""
+    if order > n:
+        return None
+    deg = n - order
+    base = [comb(deg, i) * t**i * (1 - t) ** (deg - i) for i in range(deg + 1)]
+    factor = 1
+    for k in range(order):
+        factor *= n - k
+    # d^r/dt^r sum b_i B_i^n = n!/(n-r)! sum Δ^r b_i B_i^{n-r}; expand Δ^r into weights of b_i.
+    out = [Fraction(0)] * (n + 1)
+    for i, B in enumerate(base):
+        for k in range(order + 1):
+            out[i + k] += factor * (-1) ** (order - k) * comb(order, k) * B
+    return out
+
+
+def bezier_derivatives_exact(P, u, v, weights=None):
+    """Exact point and derivatives of a (rational) Bézier patch at rational ``(u, v)``.
+
+    Parameters
+    ----------
+    P : (m+1, n+1, 3) array_like of numbers
+        Floats are taken at their exact binary value; Fractions and ints exactly.
+    u, v : number
+        Converted to :class:`fractions.Fraction` exactly.
+    weights : (m+1, n+1) array_like, optional
+
+    Returns
+    -------
+    list of six 3-vectors of Fractions: ``b, bu, bv, buu, buv, bvv``.
+    """
+    P = _fractions(P)
+    m, n = P.shape[0] - 1, P.shape[1] - 1
+    u, v = Fraction(u), Fraction(v)
+    if weights is None:
+        Pw = P
+    else:
+        w = _fractions(weights)
+        Pw = np.concatenate([P * w[..., None], w[..., None]], axis=-1)
+    orders = ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2))
+    fields = []
+    for du, dv in orders:
+        Bu = _bernstein_exact(m, u, du)
+        Bv = _bernstein_exact(n, v, dv)
+        if Bu is None or Bv is None:
+            fields.append([Fraction(0)] * Pw.shape[-1])
+            continue
+        fields.append(
+            [sum(Bu[i] * Bv[j] * Pw[i, j, c] for i in range(m + 1) for j in range(n + 1)) for c in range(Pw.shape[-1])]
+        )
+    if weights is None:
+        return fields
+    # quotient rule (The NURBS Book, eq. 4.20)
+    A = [np.array(f[:-1], dtype=object) for f in fields]
+    w = [f[-1] for f in fields]
+    S = A[0] / w[0]
+    Su = (A[1] - w[1] * S) / w[0]
+    Sv = (A[2] - w[2] * S) / w[0]
+    Suu = (A[3] - 2 * w[1] * Su - w[3] * S) / w[0]
+    Suv = (A[4] - w[1] * Sv - w[2] * Su - w[4] * S) / w[0]
+    Svv = (A[5] - 2 * w[2] * Sv - w[5] * S) / w[0]
+    return [list(x) for x in (S, Su, Sv, Suu, Suv, Svv)]
+
+
+def _sympy_vector(vec):
+    return sp.Matrix([sp.Rational(x.numerator, x.denominator) for x in vec])
+
+
+def bezier_curvature_exact(P, u, v, weights=None):
+    """Exact :class:`ExactCurvature` of a (rational) Bézier patch at rational ``(u, v)``."""
+    d = bezier_derivatives_exact(P, u, v, weights)
+    return curvature_from_derivatives(*(_sympy_vector(x) for x in d[1:]))
+
+
+def bezier_corner_curvature_exact(P, weights=None):
+    """Exact curvature at the four corners: a dict ``{(a, b): ExactCurvature}`` for ``(u, v) = (a, b)``."""
+    return {(a, b): bezier_curvature_exact(P, a, b, weights) for a in (0, 1) for b in (0, 1)}
+
+
+def to_float(exact, digits=30):
+    """Float values of an :class:`ExactCurvature` (evaluated to ``digits`` significant digits first)."""
+    return ExactCurvature(*(float(sp.N(x, digits)) for x in exact))
+
+
+def random_rational_net(rng, m, n, denominator=8, scale=4, flatness=None):
+    """A random control net with rational coordinates ``k / denominator`` (exact in binary if a power of 2).
+
+    The net is a perturbed grid over ``[0, m] x [0, n]`` so that the patch is
+    regular (no degenerate points); heights are random in ``[-scale, scale]``.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    m, n : int
+        Degrees.
+    denominator : int
+    scale : float
+    flatness : float, optional
+        If given, heights are multiplied by it (0 gives a flat patch).
+
+    Returns
+    -------
+    ndarray of float, shape ``(m+1, n+1, 3)``
+    """
+    i, j = np.meshgrid(np.arange(m + 1), np.arange(n + 1), indexing="ij")
+    jitter = rng.integers(-denominator // 4, denominator // 4 + 1, size=(m + 1, n + 1, 2)) / denominator
+    z = rng.integers(-scale * denominator, scale * denominator + 1, size=(m + 1, n + 1)) / denominator
+    if flatness is not None:
+        z = z * flatness
+    return np.stack([i + jitter[..., 0], j + jitter[..., 1], z], axis=-1)

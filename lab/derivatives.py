@@ -1,0 +1,65 @@
+r"""The record of a surface point with its first and second partial derivatives.
+
+Every surface type (Bézier, B-spline, analytic) produces a :class:`Derivatives`
+and every curvature formula consumes one, so this small module is the contract
+between the evaluators and :mod:`lab.curvature`.
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["Derivatives", "from_homogeneous"]
+
+
+class Derivatives(NamedTuple):
+    """Point ``b`` and partial derivatives ``bu, bv, buu, buv, bvv``.
+
+    Each field has shape ``batch + (d,)`` with the coordinates on the last axis.
+    """
+
+    b: np.ndarray
+    bu: np.ndarray
+    bv: np.ndarray
+    buu: np.ndarray
+    buv: np.ndarray
+    bvv: np.ndarray
+
+    def map(self, func):
+        """Apply ``func`` to every field and return a new record."""
+        return Derivatives(*(func(x) for x in self))
+
+
+def from_homogeneous(Dw):
+    r"""Derivatives of a rational surface from those of its homogeneous form.
+
+    With :math:`A = w\,S` (first ``d`` coordinates of ``Dw``) and the weight
+    :math:`w` (last coordinate), the quotient rule gives (The NURBS Book,
+    eq. 4.20 and Algorithm A4.4)
+
+    .. math::
+
+        S_u &= (A_u - w_u S)/w, \qquad S_v = (A_v - w_v S)/w,\\
+        S_{uu} &= (A_{uu} - 2 w_u S_u - w_{uu} S)/w,\\
+        S_{uv} &= (A_{uv} - w_u S_v - w_v S_u - w_{uv} S)/w,\\
+        S_{vv} &= (A_{vv} - 2 w_v S_v - w_{vv} S)/w.
+
+    Parameters
+    ----------
+    Dw : Derivatives
+        Fields of shape ``batch + (d+1,)``, the weight last.
+
+    Returns
+    -------
+    Derivatives
+        Fields of shape ``batch + (d,)``.
+    """
+    A = [x[..., :-1] for x in Dw]
+    w = [x[..., -1:] for x in Dw]
+    S = A[0] / w[0]
+    Su = (A[1] - w[1] * S) / w[0]
+    Sv = (A[2] - w[2] * S) / w[0]
+    Suu = (A[3] - 2 * w[1] * Su - w[3] * S) / w[0]
+    Suv = (A[4] - w[1] * Sv - w[2] * Su - w[4] * S) / w[0]
+    Svv = (A[5] - 2 * w[2] * Sv - w[5] * S) / w[0]
+    return Derivatives(S, Su, Sv, Suu, Suv, Svv)

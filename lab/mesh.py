@@ -1,0 +1,309 @@
+"""Meshes with exact curvature as point data (PyVista) and geomview export (CBEZ, coloured OFF).
+
+The practical shows every Bézier patch as a quadrilateral with its four
+corner colours (Gouraud shading interpolates between them); that is
+:func:`patches_mesh` with ``resolution=1``.  Finer ``resolution`` samples each
+patch on a grid, with curvature computed exactly at every node.  Vertices
+shared by neighbouring patches are welded, and their point data averaged, so
+the mesh is one connected surface.
+"""
+
+import numpy as np
+import pyvista as pv
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from . import _validation as _v
+from .patches import CurvatureMode, colors_for, curvature_values, zero_tolerance
+
+__all__ = [
+    "weld",
+    "grid_mesh",
+    "patches_mesh",
+    "surface_mesh",
+    "write_off",
+    "read_off",
+    "write_cbez",
+    "read_cbez",
+    "WELD_RTOL",
+]
+
+#: Points closer than WELD_RTOL times the bounding-box diagonal are merged.
+WELD_RTOL = 1e-9
+
+
+def weld(points, rtol=WELD_RTOL):
+    """Labels that merge coincident points.
+
+    Parameters
+    ----------
+    points : (k, 3) ndarray
+    rtol : float
+        Merge distance relative to the bounding-box diagonal.
+
+    Returns
+    -------
+    labels : (k,) int ndarray
+        ``labels[i]`` is the index of point ``i`` in the welded point list; the
+        groups are the connected components of the "closer than tol" graph.
+    n : int
+        Number of welded points.
+    """
+    points = np.asarray(points, dtype=float)
+    extent = np.linalg.norm(points.max(axis=0) - points.min(axis=0)) if len(points) else 0.0
+    tol = rtol * max(extent, 1e-300)
+    pairs = cKDTree(points).query_pairs(tol, output_type="ndarray")
+    k = len(points)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(k, k))
+    n, labels = connected_components(graph, directed=False)
+    return labels, n
+
+
+def _average(labels, n, values):
+    """Mean of ``values`` (k, ...) over each label group; NaN-aware (NaN only if every member is NaN)."""
+    values = np.asarray(values, dtype=float)
+    flat = values.reshape(len(values), -1)
+    finite = np.isfinite(flat)
+    sums = np.zeros((n, flat.shape[1]))
+    counts = np.zeros((n, flat.shape[1]))
+    np.add.at(sums, labels, np.where(finite, flat, 0.0))
+    np.add.at(counts, labels, finite)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+    return out.reshape((n,) + values.shape[1:])
+
+
+def grid_mesh(points, point_data=None, weld_points=True):
+    """A quad mesh from grids of points, welded across grids.
+
+    Parameters
+    ----------
+    points : (g, a, b, 3) ndarray
+        ``g`` grids of ``a x b`` points (one per patch).
+    point_data : dict of name -> (g, a, b, ...) ndarray
+        Values per grid point; averaged over welded points (booleans: any).
+    weld_points : bool
+
+    Returns
+    -------
+    pyvista.PolyData
+    """
+    g, a, b, _ = points.shape
+    idx = np.arange(g * a * b).reshape(g, a, b)
+    quads = np.stack([idx[:, :-1, :-1], idx[:, 1:, :-1], idx[:, 1:, 1:], idx[:, :-1, 1:]], axis=-1).reshape(-1, 4)
+    flat_points = points.reshape(-1, 3)
+    data = {k: np.asarray(v).reshape((g * a * b,) + np.shape(v)[3:]) for k, v in (point_data or {}).items()}
+    if weld_points:
+        labels, n = weld(flat_points)
+        quads = labels[quads]
+        flat_points = _average(labels, n, flat_points)
+        for k, v in data.items():
+            if v.dtype == bool:
+                data[k] = np.zeros(n, bool)
+                np.logical_or.at(data[k], labels, v)
+            else:
+                data[k] = _average(labels, n, v)
+    faces = np.hstack([np.full((len(quads), 1), 4), quads]).ravel()
+    mesh = pv.PolyData(flat_points, faces)
+    for k, v in data.items():
+        mesh.point_data[k] = v
+    return mesh
+
+
+def _bilinear(corner_values, s):
+    """Bilinear interpolation of ``(..., 2, 2, c)`` corner values on the grid ``s x s`` (s from 0 to 1)."""
+    a = np.stack([1 - s, s], axis=-1)  # (r, 2)
+    return np.einsum("ia,jb,...abc->...ijc", a, a, corner_values)
+
+
+def patches_mesh(patches, resolution=1):
+    """A welded :class:`pyvista.PolyData` of a :class:`lab.BezierPatches` collection.
+
+    Parameters
+    ----------
+    patches : BezierPatches
+    resolution : int
+        Quads per patch edge; 1 gives one quad per patch with the corners only,
+        as the practical draws it.
+
+    Returns
+    -------
+    pyvista.PolyData
+        Point data ``K``, ``H``, ``k1``, ``k2`` (exact at every node),
+        ``degenerate`` (bool); if the collection has been coloured
+        (``visualize_curvature`` or ``set_colors``), also ``RGB`` (uint8, the
+        corner colours interpolated bilinearly inside a patch, as Gouraud
+        shading would) and ``values`` (the stored corner values, interpolated).
+    """
+    resolution = _v.as_positive_int(resolution, "resolution", minimum=1)
+    s = np.linspace(0.0, 1.0, resolution + 1)
+    U, V = np.meshgrid(s, s, indexing="ij")
+    points = patches.evaluate(U, V)
+    curv = patches.curvature_at(U, V)
+    data = {"K": curv.K, "H": curv.H, "k1": curv.k1, "k2": curv.k2, "degenerate": curv.degenerate}
+    if np.all(np.isfinite(patches.colors)):
+        data["colors"] = _bilinear(patches.colors, s)
+        data["values"] = _bilinear(patches.curvature[..., None], s)[..., 0]
+    mesh = grid_mesh(points, data)
+    if "colors" in mesh.point_data:
+        mesh.point_data["RGB"] = np.round(255 * np.clip(mesh.point_data.pop("colors"), 0, 1)).astype(np.uint8)
+    return mesh
+
+
+def surface_mesh(surface, nu=64, nv=64, curvature_mode=None, color_map=None):
+    """A welded mesh of any :class:`lab.Surface` on an ``nu x nv`` parameter grid, with exact curvature.
+
+    Seams of closed surfaces (torus, sphere poles) are welded.  With
+    ``curvature_mode`` and ``color_map`` the point data also holds ``values``
+    and ``RGB`` coloured like :meth:`lab.BezierPatches.visualize_curvature`.
+    """
+    U, V = surface.grid(nu, nv)
+    points = surface.evaluate(U, V)
+    curv = surface.curvature(U, V)
+    data = {"K": curv.K, "H": curv.H, "k1": curv.k1, "k2": curv.k2, "degenerate": curv.degenerate}
+    mesh = grid_mesh(points[None], {k: v[None] for k, v in data.items()})
+    if curvature_mode is not None and color_map is not None:
+        color_curvature(mesh, curvature_mode, color_map)
+    return mesh
+
+
+def color_curvature(mesh, curvature_mode, color_map):
+    """Add ``values`` and ``RGB`` point data to a mesh with ``K, H, k1, k2`` point data (in place)."""
+    from .curvature import Curvature
+
+    curv = Curvature(*(mesh.point_data[k] for k in ("K", "H", "k1", "k2", "degenerate")))
+    values = curvature_values(curv, curvature_mode)
+    size = float(np.linalg.norm(np.ptp(mesh.points, axis=0)))
+    name = color_map.value if hasattr(color_map, "value") else color_map
+    rgb = colors_for(values, name, tol=zero_tolerance(CurvatureMode(curvature_mode), size))
+    mesh.point_data["values"] = values
+    mesh.point_data["RGB"] = np.round(255 * rgb).astype(np.uint8)
+    return mesh
+
+
+# -- geomview formats -------------------------------------------------------------
+
+
+def _faces(mesh):
+    """Faces of a PolyData as a list of index arrays."""
+    faces, out, i = mesh.faces, [], 0
+    while i < len(faces):
+        k = faces[i]
+        out.append(faces[i + 1 : i + 1 + k])
+        i += k + 1
+    return out
+
+
+def write_off(mesh, path):
+    """Write a mesh as geomview OFF; with ``RGB`` point data as ``COFF`` (per-vertex RGBA in [0, 1]).
+
+    Parameters
+    ----------
+    mesh : pyvista.PolyData
+    path : str or os.PathLike
+    """
+    points = np.asarray(mesh.points, dtype=float)
+    faces = _faces(mesh)
+    rgb = mesh.point_data["RGB"] / 255.0 if "RGB" in mesh.point_data else None
+    lines = ["COFF" if rgb is not None else "OFF", f"{len(points)} {len(faces)} 0"]
+    for i, p in enumerate(points):
+        row = f"{p[0]:.17g} {p[1]:.17g} {p[2]:.17g}"
+        if rgb is not None:
+            row += " " + " ".join(f"{c:.6g}" for c in rgb[i]) + " 1"
+        lines.append(row)
+    lines.extend(f"{len(f)} " + " ".join(str(int(j)) for j in f) for f in faces)
+    with open(path, "w") as fh:
+        fh.write("\n".join(lines) + "\n")
+
+
+def _tokens(path):
+    with open(path) as fh:
+        text = [line.split("#", 1)[0] for line in fh]
+    return " ".join(text).split()
+
+
+def read_off(path):
+    """Read a geomview ``OFF`` / ``COFF`` file.
+
+    Returns
+    -------
+    points : (k, 3) ndarray
+    faces : list of int ndarrays
+    colors : (k, 4) ndarray or None
+        RGBA per vertex for COFF.
+    """
+    tok = _tokens(path)
+    if not tok or tok[0] not in ("OFF", "COFF"):
+        raise ValueError(f"{path}: not an OFF file (expected header OFF or COFF; got {tok[:1]})")
+    colored = tok[0] == "COFF"
+    nv, nf = int(tok[1]), int(tok[2])
+    per = 7 if colored else 3
+    pos = 4
+    verts = np.array(tok[pos : pos + nv * per], dtype=float).reshape(nv, per)
+    pos += nv * per
+    faces = []
+    for _ in range(nf):
+        k = int(tok[pos])
+        faces.append(np.array(tok[pos + 1 : pos + 1 + k], dtype=int))
+        pos += k + 1
+    return verts[:, :3], faces, (verts[:, 3:] if colored else None)
+
+
+def write_cbez(patches, path):
+    """Write coloured Bézier patches for geomview (``CBEZ<m><n><d>``; ``CBEZ333`` for bicubic).
+
+    Per patch the control points with u varying fastest, then the corner
+    colours RGBA(0,0) RGBA(0,n) RGBA(m,0) RGBA(m,n), i.e. c00, c01, c10, c11
+    (geomview manual, "BBP and BEZ").  Rational patches are written with
+    homogeneous 4-D vertices ``(w x, w y, w z, w)``.
+    """
+    m, n = patches.degree
+    if not (1 <= m <= 6 and 1 <= n <= 6):
+        raise ValueError(f"geomview BEZ patches need degrees 1..6 in u and v; got {(m, n)}")
+    colors = patches.colors
+    if not np.all(np.isfinite(colors)):
+        raise ValueError("the patches have no colours yet: call visualize_curvature (or set_colors) before write_cbez")
+    P = patches.control_points
+    if patches.weights is not None:
+        w = patches.weights[..., None]
+        P = np.concatenate([P * w, w], axis=-1)
+    d = P.shape[-1]
+    lines = [f"CBEZ{m}{n}{d}"]
+    for net, col in zip(P, colors):
+        for j in range(n + 1):
+            for i in range(m + 1):
+                lines.append(" ".join(f"{x:.17g}" for x in net[i, j]))
+        for a, b in ((0, 0), (0, 1), (1, 0), (1, 1)):
+            lines.append(" ".join(f"{x:.6g}" for x in col[a, b]) + " 1")
+        lines.append("")
+    with open(path, "w") as fh:
+        fh.write("\n".join(lines) + "\n")
+
+
+def read_cbez(path):
+    """Read a geomview ``CBEZ<m><n><d>`` file written by :func:`write_cbez`.
+
+    Returns
+    -------
+    nets : (N, m+1, n+1, 3) ndarray
+    weights : (N, m+1, n+1) ndarray or None
+    colors : (N, 2, 2, 4) ndarray
+        RGBA indexed ``[patch, u, v]``.
+    """
+    tok = _tokens(path)
+    head = tok[0] if tok else ""
+    if not (len(head) == 7 and head.startswith("CBEZ") and head[4:].isdigit()):
+        raise ValueError(f"{path}: expected a CBEZ<m><n><d> header; got {head!r}")
+    m, n, d = (int(c) for c in head[4:])
+    values = np.array(tok[1:], dtype=float)
+    per = (m + 1) * (n + 1) * d + 16
+    if values.size % per:
+        raise ValueError(f"{path}: {values.size} numbers is not a whole number of {head} patches ({per} each)")
+    rec = values.reshape(-1, per)
+    nets = rec[:, : per - 16].reshape(-1, n + 1, m + 1, d).transpose(0, 2, 1, 3)
+    colors = rec[:, per - 16 :].reshape(-1, 2, 2, 4)  # c00, c01, c10, c11
+    if d == 4:
+        w = nets[..., 3]
+        return nets[..., :3] / w[..., None], w, colors
+    return nets, None, colors
