@@ -57,13 +57,17 @@ __all__ = [
 DEGENERATE_RTOL = 1e-10
 
 #: Fractions of the way from a degenerate point towards the domain centre at
-#: which curvature is sampled and extrapolated to 0 (see fill_degenerate).
-APPROACH_STEPS = 1e-3 * np.arange(1, 7)
-# Lagrange weights of the interpolating polynomial through the samples, evaluated at t = 0:
-# w_k = prod_{r != k} t_r / (t_r - t_k).  Six points give (6, -15, 20, -15, 6, -1).
+#: which curvature is sampled and extrapolated to 0 (see fill_degenerate): two
+#: runs of six equidistant steps, a short one (for curvature that varies fast
+#: near the point) and a long one (for parametrisations whose rounding error
+#: grows like 1/t^2 towards the point, such as the poles of a rational sphere).
+APPROACH_RUNS = (2e-3 * np.arange(1, 7), 1e-2 * np.arange(1, 7))
+APPROACH_STEPS = np.concatenate(APPROACH_RUNS)
 
 
 def _extrapolation_weights(t):
+    """Lagrange weights of the polynomial through samples at ``t``, evaluated at 0:
+    ``w_k = prod_{r != k} t_r / (t_r - t_k)``; six equidistant points give (6, -15, 20, -15, 6, -1)."""
     t = np.asarray(t, dtype=float)
     w = np.ones_like(t)
     for k in range(t.size):
@@ -73,8 +77,8 @@ def _extrapolation_weights(t):
     return w
 
 
-_W6 = _extrapolation_weights(APPROACH_STEPS)
-_W5 = _extrapolation_weights(APPROACH_STEPS[:5])
+_W6 = _extrapolation_weights(APPROACH_RUNS[0])  # the same for both runs: they are scaled copies
+_W5 = _extrapolation_weights(APPROACH_RUNS[0][:5])
 
 
 class DegeneratePointWarning(RuntimeWarning):
@@ -165,6 +169,14 @@ def principal_curvatures(K, H):
 def from_derivatives(d):
     """Curvature from first and second derivatives (practical eqs. 3 and 4).
 
+    ``K`` and ``H`` are the practical's formulas.  The principal curvatures
+    are :math:`H \\pm \\sqrt{D}` with the discriminant :math:`D = H^2 - K`
+    computed as :math:`((S_{11} - S_{22})/2)^2 + S_{12} S_{21}` from the shape
+    operator :math:`S = \\mathbf G^{-1}\\mathbf H` (Weingarten map): the same
+    number in exact arithmetic, but without the cancellation of
+    :math:`H^2 - K` near umbilics, so :math:`\\kappa_1 - \\kappa_2` is
+    accurate to rounding instead of to its square root.
+
     Parameters
     ----------
     d : Derivatives
@@ -178,13 +190,20 @@ def from_derivatives(d):
         their limits.
     """
     ff = fundamental_forms(d)
-    det_I = ff.E * ff.G - ff.F**2
+    # EG - F^2 = |b_u x b_v|^2 (Lagrange's identity); the cross product avoids the
+    # cancellation of EG - F^2 near degenerate points.
+    Q = np.cross(d.bu, d.bv)
+    det_I = _dot(Q, Q)
     with np.errstate(invalid="ignore", divide="ignore"):
         K = (ff.e * ff.g - ff.f**2) / det_I
-        H = 0.5 * (ff.e * ff.G - 2.0 * ff.f * ff.F + ff.g * ff.E) / det_I
-    k1, k2 = principal_curvatures(K, H)
+        S11 = (ff.G * ff.e - ff.F * ff.f) / det_I
+        S12 = (ff.G * ff.f - ff.F * ff.g) / det_I
+        S21 = (ff.E * ff.f - ff.F * ff.e) / det_I
+        S22 = (ff.E * ff.g - ff.F * ff.f) / det_I
+    H = 0.5 * (S11 + S22)
+    root = np.sqrt(np.maximum(0.25 * (S11 - S22) ** 2 + S12 * S21, 0.0))
     degenerate = np.isnan(ff.N[..., 0])
-    return Curvature(K, H, k1, k2, degenerate)
+    return Curvature(K, H, H + root, H - root, degenerate)
 
 
 def strain_energy(k1, k2):
@@ -233,9 +252,11 @@ def fill_degenerate(curv, samples, *, rtol=1e-6):
 
     Curvature is sampled at the points :func:`approach_points` gives, at small
     fractions ``t_k`` of the way towards the domain centre, and extrapolated to
-    ``t = 0`` by the polynomial through the samples (six points, error of order
-    ``t^6``).  The limit is accepted when a five-point extrapolation agrees to
-    ``rtol`` relative to the sampled magnitude; otherwise (for example at the
+    ``t = 0`` by the polynomial through six samples (error of order ``t^6``),
+    once with short and once with long steps (:data:`APPROACH_RUNS`); the run
+    whose five- and six-point extrapolations agree better is kept.  The limit
+    is accepted when they agree to ``rtol`` relative to the sampled
+    magnitude; otherwise (for example at the
     apex of a cone, where the mean curvature diverges) the value stays NaN.
     Either way the point keeps ``degenerate = True`` and one
     :class:`DegeneratePointWarning` says how many points were affected.
@@ -257,19 +278,36 @@ def fill_degenerate(curv, samples, *, rtol=1e-6):
     if not np.any(mask):
         return curv
     limits = {}
+    n = len(APPROACH_RUNS[0])
+    sampled = {"K": samples.K, "H": samples.H, "D": (0.5 * (samples.k1 - samples.k2)) ** 2}
+    # For each run: the six-point limit and, as its error estimate, the change from the five-point one.
+    estimates = {}
+    for name, s in sampled.items():
+        runs = [s[..., i * n : (i + 1) * n] for i in range(len(APPROACH_RUNS))]
+        estimates[name] = [(r @ _W6, np.abs(r @ _W6 - r[..., :5] @ _W5), np.max(np.abs(r), axis=-1)) for r in runs]
+    # Choose per point the run whose K and H estimates are more consistent.
+    errors = np.stack(
+        [estimates["K"][i][1] / (estimates["K"][i][2] + 1e-300) + estimates["H"][i][1] / (estimates["H"][i][2] + 1e-300)
+         for i in range(len(APPROACH_RUNS))]
+    )
+    best = np.argmin(errors, axis=0)
     converged = ~np.any(samples.degenerate, axis=-1)
-    for name in ("K", "H"):
-        s = getattr(samples, name)
-        lim6 = s @ _W6
-        lim5 = s[..., :5] @ _W5
-        scale = np.max(np.abs(s), axis=-1)
-        converged &= np.abs(lim6 - lim5) <= rtol * scale + 1e-300
-        limits[name] = lim6
+    for name in sampled:
+        lim = np.choose(best, [e[0] for e in estimates[name]])
+        err = np.choose(best, [e[1] for e in estimates[name]])
+        scale = np.choose(best, [e[2] for e in estimates[name]])
+        if name != "D":  # D is the square of a small difference near umbilics: judged through K and H
+            converged &= err <= rtol * scale + 1e-300
+        limits[name] = lim
     K = np.array(curv.K, dtype=float, copy=True)
     H = np.array(curv.H, dtype=float, copy=True)
+    root = np.zeros_like(K)
     K[mask] = np.where(converged, limits["K"], np.nan)
     H[mask] = np.where(converged, limits["H"], np.nan)
-    k1, k2 = principal_curvatures(K, H)
+    root[mask] = np.sqrt(np.maximum(limits["D"], 0.0))
+    # elsewhere keep the principal curvatures from_derivatives computed
+    k1 = np.where(mask, H + root, curv.k1)
+    k2 = np.where(mask, H - root, curv.k2)
     n_bad = int(np.count_nonzero(~converged))
     msg = (
         f"{int(np.count_nonzero(mask))} degenerate point(s) (b_u x b_v = 0, e.g. a collapsed patch edge): "
@@ -300,9 +338,13 @@ def with_limits(curv, u, v, centre, derivatives_at):
     mask = curv.degenerate
     if not np.any(mask):
         return curv
-    index = np.nonzero(mask)
-    u = np.broadcast_to(u, mask.shape)[index]
-    v = np.broadcast_to(v, mask.shape)[index]
+    shape = np.shape(mask)
+    flat = Curvature(*(np.reshape(x, -1) for x in curv))  # one code path for scalars and arrays
+    index = np.nonzero(flat.degenerate)
+    u = np.broadcast_to(u, shape).reshape(-1)[index]
+    v = np.broadcast_to(v, shape).reshape(-1)[index]
     uu, vv = approach_points(u, v, centre)
-    samples = from_derivatives(derivatives_at(index, uu, vv))
-    return fill_degenerate(curv, samples)
+    orig_index = np.unravel_index(index[0], shape) if shape else index
+    samples = from_derivatives(derivatives_at(orig_index, uu, vv))
+    filled = fill_degenerate(flat, samples)
+    return Curvature(*(np.reshape(x, shape) for x in filled))
