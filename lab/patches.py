@@ -174,8 +174,10 @@ class BezierPatches:
 
     def __init__(self, control_points, weights=None):
         P = _v.as_control_net(control_points, "control points", batch=True)
-        if P.ndim == 3:
+        if P.ndim == 3:  # a single net is one patch
             P = P[None]
+            if weights is not None and np.ndim(weights) == 2:
+                weights = np.asarray(weights)[None]
         if P.ndim != 4:
             raise ValueError(f"control points must have shape (N, m+1, n+1, 3); got {P.shape}")
         self._P = P

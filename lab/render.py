@@ -30,13 +30,14 @@ def plot_mesh(mesh, plotter, *, show_edges=False, scalars=None, cmap="viridis", 
 VIEW_DIRECTION = (-1.0, -1.2, 1.6)
 
 
-def set_camera(plotter, mesh, direction=VIEW_DIRECTION):
-    """Look at ``mesh`` from ``direction`` with z up, the whole mesh in view."""
+def set_camera(plotter, mesh, direction=VIEW_DIRECTION, zoom=1.1):
+    """Look at ``mesh`` from ``direction`` with z up; ``zoom`` > 1 fills more of the view than the bounding sphere."""
     centre = np.asarray(mesh.center, dtype=float)
     d = np.asarray(direction, dtype=float)
     d /= np.linalg.norm(d)
     plotter.camera_position = [tuple(centre + d * max(mesh.length, 1e-9)), tuple(centre), (0.0, 0.0, 1.0)]
     plotter.reset_camera()
+    plotter.camera.zoom(zoom)
 
 
 def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=None):

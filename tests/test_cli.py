@@ -1,0 +1,81 @@
+"""The curvature-lab command line."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from lab import cli
+from lab import mesh as M
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "lab.cli", *args], capture_output=True, text=True, timeout=300)
+
+
+def test_render_png_is_not_blank(tmp_path):
+    import imageio.v3 as iio
+
+    out = tmp_path / "practical.png"
+    result = run("render", "--surface", "practical", "--curvature", "gaussian", "--color-map", "linear",
+                 "--depth", "2", "--window-size", "400x300", "-o", str(out))
+    assert result.returncode == 0, result.stderr
+    assert f"wrote {out}" in result.stderr
+    assert "refining to depth 2: 784 patches" in result.stderr  # the progress display
+    image = iio.imread(out)
+    assert image.shape == (300, 400, 3)
+    covered = np.any(image < 250, axis=-1)
+    assert 0.05 < covered.mean() < 0.9
+    assert len(np.unique(image[covered].reshape(-1, 3) // 32, axis=0)) > 3  # shaded and coloured, not one flat colour
+
+
+def test_render_off_is_valid(tmp_path):
+    out = tmp_path / "torus.off"
+    assert cli.main(["render", "--surface", "torus", "--depth", "1", "--quiet", "-o", str(out)]) == 0
+    points, faces, colors = M.read_off(out)
+    # 4 x 4 knot spans, refined once: 8 x 8 quads on a closed torus (seams welded)
+    assert len(faces) == 64 and len(points) == 64
+    assert all(len(f) == 4 for f in faces)
+    assert colors.shape == (64, 4) and colors.min() >= 0 and colors.max() <= 1
+
+
+@pytest.mark.parametrize("suffix", [".vtk", ".html", ".bez"])
+def test_other_outputs(tmp_path, suffix):
+    out = tmp_path / f"saddle{suffix}"
+    assert cli.main(["render", "--surface", "saddle", "--depth", "1", "--quiet", "-o", str(out)]) == 0
+    assert out.stat().st_size > 100
+    if suffix == ".bez":
+        nets, _, colors = M.read_cbez(out)
+        assert nets.shape == (4, 3, 3, 3)
+    if suffix == ".vtk":
+        import pyvista as pv
+
+        m = pv.read(out)
+        assert {"K", "H", "k1", "k2", "RGB"} <= set(m.point_data)
+
+
+def test_analytic_surface_renders_on_a_grid(tmp_path):
+    out = tmp_path / "catenoid.vtk"
+    assert cli.main(["render", "--surface", "catenoid", "--curvature", "mean", "--depth", "0", "--quiet", "-o", str(out)]) == 0
+    import pyvista as pv
+
+    m = pv.read(out)
+    np.testing.assert_allclose(m.point_data["H"], 0, atol=1e-12)
+
+
+def test_help_and_errors(tmp_path):
+    result = run("render", "--help")
+    assert result.returncode == 0 and "--color-map" in result.stdout and "--depth" in result.stdout
+    result = run("render", "--surface", "teapot", "-o", str(tmp_path / "x.png"))
+    assert result.returncode == 2 and "invalid choice: 'teapot'" in result.stderr and "practical" in result.stderr
+    result = run("render", "--color-map", "jet", "-o", str(tmp_path / "x.png"))
+    assert result.returncode == 2 and "invalid choice: 'jet'" in result.stderr
+    result = run("render", "-o", str(tmp_path / "x.jpg"))
+    assert result.returncode == 2 and "unknown output type '.jpg'" in result.stderr
+    result = run("render", "--depth", "12", "-o", str(tmp_path / "x.png"))
+    assert result.returncode == 2 and "--depth must be between 0 and 8; got 12" in result.stderr
+    result = run("render", "--surface", "catenoid", "-o", str(tmp_path / "x.bez"))
+    assert result.returncode == 2 and "analytic, not made of Bézier patches" in result.stderr
+    result = run("render", "-o", str(tmp_path / "missing" / "x.png"))
+    assert result.returncode == 2 and "does not exist" in result.stderr

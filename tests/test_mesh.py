@@ -1,0 +1,141 @@
+"""Meshes with exact curvature point data, geomview export and rendering (lab.mesh, lab.render)."""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lab
+from lab import mesh as M
+from lab import render, surfaces
+
+DATA = Path(__file__).parent / "data"
+
+
+def test_practical_mesh_is_welded_with_exact_curvature():
+    s = surfaces.practical()
+    for depth in (0, 2):
+        p = s.to_bezier_patches().refine(depth)
+        m = p.to_mesh()
+        k = 7 * 2**depth
+        assert m.n_points == (k + 1) ** 2 and m.n_cells == k * k
+        # each welded vertex is a grid point of the B-spline: compare with the B-spline's own curvature
+        grid = np.linspace(0, 7, k + 1)
+        U, V = np.meshgrid(grid, grid, indexing="ij")
+        pts = s.evaluate(U, V).reshape(-1, 3)
+        c = s.curvature(U, V)
+        order = np.argmin(np.linalg.norm(m.points[:, None, :] - pts[None], axis=-1), axis=1)
+        np.testing.assert_allclose(m.points, pts[order], atol=1e-12)
+        np.testing.assert_allclose(m.point_data["K"], c.K.ravel()[order], rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(m.point_data["H"], c.H.ravel()[order], rtol=1e-10, atol=1e-12)
+    # no boundary edges inside: only the outer rim of the square domain is boundary
+    edges = m.extract_feature_edges(boundary_edges=True, feature_edges=False, manifold_edges=False,
+                                    non_manifold_edges=False)
+    assert edges.n_cells == 4 * k
+
+
+def test_finer_resolution_samples_exactly():
+    p = surfaces.saddle().to_bezier_patches()
+    m = M.patches_mesh(p, resolution=4)
+    assert m.n_points == 25
+    np.testing.assert_allclose(m.point_data["K"], -4 / (1 + 4 * m.points[:, 0] ** 2 + 4 * m.points[:, 1] ** 2) ** 2,
+                               rtol=1e-12)
+
+
+def test_closed_surfaces_weld_their_seams():
+    t = M.surface_mesh(surfaces.torus(), 17, 13)
+    assert t.n_points == 16 * 12
+    edges = t.extract_feature_edges(boundary_edges=True, feature_edges=False, manifold_edges=False,
+                                    non_manifold_edges=False)
+    assert edges.n_cells == 0  # a closed torus
+    with pytest.warns(lab.DegeneratePointWarning):
+        s = M.surface_mesh(surfaces.sphere(1.0), 9, 7)
+    assert s.n_points == 8 * 5 + 2  # each pole is one point
+    np.testing.assert_allclose(s.point_data["K"], 1.0, rtol=1e-9)
+    assert s.point_data["degenerate"].sum() == 2
+
+
+def test_off_round_trip(tmp_path):
+    p = surfaces.practical().to_bezier_patches().refine(1)
+    p.visualize_curvature("gaussian", "linear")
+    m = p.to_mesh()
+    path = tmp_path / "practical.off"
+    M.write_off(m, path)
+    lines = path.read_text().splitlines()
+    assert lines[0] == "COFF" and lines[1] == f"{m.n_points} {m.n_cells} 0"
+    points, faces, colors = M.read_off(path)
+    np.testing.assert_array_equal(points, m.points)
+    np.testing.assert_array_equal(np.array(faces), m.faces.reshape(-1, 5)[:, 1:])
+    np.testing.assert_allclose(colors[:, :3], m.point_data["RGB"] / 255, atol=1e-6)
+    np.testing.assert_array_equal(colors[:, 3], 1.0)
+    plain = m.copy()
+    del plain.point_data["RGB"]
+    M.write_off(plain, tmp_path / "plain.off")
+    points, faces, colors = M.read_off(tmp_path / "plain.off")
+    assert colors is None and len(faces) == m.n_cells
+    with pytest.raises(ValueError, match="not an OFF file"):
+        (tmp_path / "x.off").write_text("PLY\n")
+        M.read_off(tmp_path / "x.off")
+
+
+@pytest.mark.parametrize("rational", [False, True])
+def test_cbez_round_trip(tmp_path, rng, rational):
+    nets = rng.normal(size=(5, 4, 4, 3))
+    w = rng.uniform(0.5, 2, size=(5, 4, 4)) if rational else None
+    p = lab.BezierPatches(nets, w)
+    p.visualize_curvature("mean", "linear")
+    path = tmp_path / "p.bez"
+    p.write_cbez(path)
+    assert path.read_text().splitlines()[0] == ("CBEZ334" if rational else "CBEZ333")
+    got, gw, colors = M.read_cbez(path)
+    np.testing.assert_allclose(got, nets, rtol=1e-15, atol=1e-15)
+    if rational:
+        np.testing.assert_allclose(gw, w, rtol=1e-15)
+    np.testing.assert_allclose(colors[..., :3], p.colors, atol=1e-6)  # c00, c01, c10, c11 in geomview's order
+
+
+def test_cbez_layout_u_fastest_and_corner_colours(tmp_path):
+    net = np.arange(2 * 3 * 3, dtype=float).reshape(2, 3, 3)  # degree (1, 2)
+    p = lab.BezierPatches(net)
+    p[0].set_colors((1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 1))
+    p.write_cbez(tmp_path / "one.bez")
+    lines = (tmp_path / "one.bez").read_text().split("\n")
+    assert lines[0] == "CBEZ123"
+    # vertex(u=0,v=0) vertex(1,0) then vertex(0,1) ...
+    assert [list(map(float, x.split())) for x in lines[1:4]] == [list(net[0, 0]), list(net[1, 0]), list(net[0, 1])]
+    # RGBA(0,0) RGBA(0,Nv) RGBA(Nu,0) RGBA(Nu,Nv)
+    assert lines[7:11] == ["1 0 0 1", "0 1 0 1", "0 0 1 1", "1 1 1 1"]
+
+
+def test_cbez_errors(tmp_path):
+    p = lab.BezierPatches(np.zeros((1, 8, 2, 3)))
+    with pytest.raises(ValueError, match=r"geomview BEZ patches need degrees 1..6 in u and v; got \(7, 1\)"):
+        p.write_cbez(tmp_path / "x.bez")
+    q = lab.BezierPatches(np.zeros((1, 2, 2, 3)))
+    with pytest.raises(ValueError, match="call visualize_curvature \\(or set_colors\\) before write_cbez"):
+        q.write_cbez(tmp_path / "x.bez")
+
+
+def _image_difference(a, b):
+    a = np.asarray(a, dtype=float)[..., :3]
+    b = np.asarray(b, dtype=float)[..., :3]
+    return np.mean(np.abs(a - b)), np.mean(np.any(np.abs(a - b) > 40, axis=-1))
+
+
+def test_render_matches_stored_reference(tmp_path):
+    """The practical's surface, Gaussian curvature, linear map, depth 2, against a stored picture."""
+    import imageio.v3 as iio
+
+    p = surfaces.practical().to_bezier_patches().refine(2)
+    p.visualize_curvature("gaussian", "signed-log")
+    image = render.screenshot(p.to_mesh(), tmp_path / "practical.png", window_size=(320, 240))
+    assert image.shape == (240, 320, 3)
+    reference = DATA / "practical_gaussian_signed_log.png"
+    if os.environ.get("LAB_UPDATE_REFERENCES"):
+        iio.imwrite(reference, image)
+    mean, frac = _image_difference(image, iio.imread(reference))
+    # tolerance: a different GL driver may shift anti-aliased edges by a pixel
+    assert mean < 3.0 and frac < 0.02, f"picture differs from {reference}: mean {mean:.2f}, {frac:.1%} pixels; see {tmp_path}"
+    # and it is not blank: the surface covers a good part of the picture and is coloured
+    assert np.mean(np.any(image < 250, axis=-1)) > 0.1
