@@ -24,6 +24,7 @@ __all__ = [
     "de_casteljau",
     "derivative_net",
     "derivatives",
+    "corner_derivatives",
     "evaluate",
     "split",
     "subdivide",
@@ -203,6 +204,77 @@ def derivatives(P, u, v, weights=None, paired=False):
         values = [x.reshape(P.shape[:-3] + u.shape + (Pw.shape[-1],)) for x in values]
     D = Derivatives(*values)
     return D if weights is None else from_homogeneous(D)
+
+
+def _corner_stencil(degree, order):
+    """Indices and weights of the r-th forward difference at both ends of a degree-m polygon.
+
+    The value of the ``order``-th derivative at t = 0 is
+    ``m!/(m-r)! * sum_k (-1)^(r-k) C(r, k) b_k`` (indices 0..r), at t = 1 the
+    same over the indices m-r..m.  Returns ``(indices (2, r+1), weights (r+1,))``;
+    ``None`` when the derivative vanishes (``order > degree``).
+    """
+    if order > degree:
+        return None
+    k = np.arange(order + 1)
+    weights = comb(order, k) * (-1.0) ** (order - k)
+    for j in range(order):
+        weights = weights * (degree - j)
+    return np.stack([k, degree - order + k]), weights
+
+
+def corner_derivatives(P, weights=None):
+    """Derivatives at the four corners, read off the corners of the derivative nets (practical, figure 3).
+
+    Because :math:`B_i^m(0) = \\delta_{i0}` and :math:`B_i^m(1) = \\delta_{im}`, the value of a
+    Bézier patch at a corner is the corner control point, and the same holds for
+    the forward-difference nets of its derivatives: for example
+    :math:`\\mathbf b_u(0, 0) = m(\\mathbf b_{10} - \\mathbf b_{00})` and
+    :math:`\\mathbf b_{uv}(1, 1) = mn(\\mathbf b_{mn} - \\mathbf b_{m-1,n} - \\mathbf b_{m,n-1} + \\mathbf b_{m-1,n-1})`.
+    Only the control points next to the corners are touched, so this is the
+    fast path for many patches.
+
+    Parameters
+    ----------
+    P : (..., m+1, n+1, d) array_like
+    weights : (..., m+1, n+1) array_like, optional
+
+    Returns
+    -------
+    Derivatives
+        Fields of shape ``(..., 2, 2, d)`` indexed ``[..., a, b]`` for the corner
+        ``(u, v) = (a, b)``; equal to :func:`derivatives` at those points.
+    """
+    P = _v.as_control_net(P, batch=True, dim=None)
+    weights = _v.as_weights(weights, P.shape[:-1])
+    D = Derivatives(*_corner_values(homogeneous(P, weights)))
+    return D if weights is None else from_homogeneous(D)
+
+
+def _corner_values(Pw):
+    """The six derivative fields at the corners of the (unchecked) nets ``Pw``, each ``(..., 2, 2, d)``.
+
+    Each corner is brought to (0, 0) by reversing the net along u and/or v (a
+    view, no copy); reversing a direction flips the sign of odd derivatives
+    along it, hence the factor ``(-1)^(a du + b dv)``.
+    """
+    m, n = Pw.shape[-3] - 1, Pw.shape[-2] - 1
+    fields = []
+    for du, dv in DERIVATIVE_ORDERS:
+        field = np.zeros(Pw.shape[:-3] + (2, 2, Pw.shape[-1]))
+        su, sv = _corner_stencil(m, du), _corner_stencil(n, dv)
+        if su is not None and sv is not None:
+            for a in (0, 1):
+                Fa = Pw[..., ::-1, :, :] if a else Pw
+                for b in (0, 1):
+                    F = Fa[..., :, ::-1, :] if b else Fa
+                    sign = (-1.0) ** (a * du + b * dv)
+                    acc = field[..., a, b, :]
+                    for k, wk in enumerate(su[1]):
+                        for l, wl in enumerate(sv[1]):
+                            acc += (sign * wk * wl) * F[..., k, l, :]
+        fields.append(field)
+    return fields
 
 
 def evaluate(P, u, v, weights=None):

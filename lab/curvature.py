@@ -189,20 +189,23 @@ def from_derivatives(d):
         ``degenerate`` is True; use :func:`fill_degenerate` to replace them by
         their limits.
     """
-    ff = fundamental_forms(d)
-    # EG - F^2 = |b_u x b_v|^2 (Lagrange's identity); the cross product avoids the
-    # cancellation of EG - F^2 near degenerate points.
+    # Dill's unnormalised form: Q = b_u x b_v, A, B, C = Q . (b_uu, b_uv, b_vv), e = A/|Q| ...;
+    # EG - F^2 = |Q|^2 (Lagrange's identity) without the cancellation of EG - F^2.
     Q = np.cross(d.bu, d.bv)
-    det_I = _dot(Q, Q)
+    W2 = _dot(Q, Q)
+    E, F, G = _dot(d.bu, d.bu), _dot(d.bu, d.bv), _dot(d.bv, d.bv)
+    degenerate = W2 <= (DEGENERATE_RTOL * (E + G)) ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
-        K = (ff.e * ff.g - ff.f**2) / det_I
-        S11 = (ff.G * ff.e - ff.F * ff.f) / det_I
-        S12 = (ff.G * ff.f - ff.F * ff.g) / det_I
-        S21 = (ff.E * ff.f - ff.F * ff.e) / det_I
-        S22 = (ff.E * ff.g - ff.F * ff.f) / det_I
+        W2 = np.where(degenerate, np.nan, W2)
+        W = np.sqrt(W2)
+        e, f, g = _dot(Q, d.buu) / W, _dot(Q, d.buv) / W, _dot(Q, d.bvv) / W
+        K = (e * g - f**2) / W2
+        S11 = (G * e - F * f) / W2
+        S12 = (G * f - F * g) / W2
+        S21 = (E * f - F * e) / W2
+        S22 = (E * g - F * f) / W2
     H = 0.5 * (S11 + S22)
     root = np.sqrt(np.maximum(0.25 * (S11 - S22) ** 2 + S12 * S21, 0.0))
-    degenerate = np.isnan(ff.N[..., 0])
     return Curvature(K, H, H + root, H - root, degenerate)
 
 

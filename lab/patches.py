@@ -15,6 +15,7 @@ import numpy as np
 from . import _validation as _v
 from . import bezier, colormaps
 from . import curvature as _curv
+from .derivatives import Derivatives, from_homogeneous
 
 __all__ = ["BezierPatches", "BezierPatch", "CurvatureMode", "ColorMap", "CORNER_U", "CORNER_V"]
 
@@ -185,6 +186,7 @@ class BezierPatches:
         self._reset()
 
     def _reset(self):
+        self._size = None
         n = len(self._P)
         self.curvature = np.full((n, 2, 2), np.nan)
         self.colors = np.full((n, 2, 2, 3), np.nan)
@@ -266,9 +268,11 @@ class BezierPatches:
 
     @property
     def size(self):
-        """Diagonal of the bounding box of all control points (the model's length scale)."""
-        P = self._P.reshape(-1, 3)
-        return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
+        """Diagonal of the bounding box of the patch corners (the model's length scale; cached)."""
+        if self._size is None:
+            corners = self._P[:, [0, -1]][:, :, [0, -1]].reshape(-1, 3)
+            self._size = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
+        return self._size
 
     def derivatives(self, u, v):
         """Derivatives of every patch at the points ``(u, v)``; fields of shape ``(N,) + S + (3,)``."""
@@ -285,7 +289,10 @@ class BezierPatches:
         :func:`lab.curvature.fill_degenerate`).
         """
         u, v = _v.as_parameters(u, v, ((0.0, 1.0), (0.0, 1.0)))
-        curv = _curv.from_derivatives(self.derivatives(u, v))
+        return self._with_limits(_curv.from_derivatives(self.derivatives(u, v)), u, v)
+
+    def _with_limits(self, curv, u, v):
+        """Replace values at degenerate points by their limits from inside the patch."""
         P, w = self._P, self._w
 
         def derivatives_at(index, uu, vv):
@@ -295,8 +302,15 @@ class BezierPatches:
         return _curv.with_limits(curv, u, v, (0.5, 0.5), derivatives_at)
 
     def corner_curvature(self):
-        """Exact curvature at the four corners of every patch, fields of shape ``(N, 2, 2)`` indexed ``[patch, u, v]``."""
-        return self.curvature_at(CORNER_U, CORNER_V)
+        """Exact curvature at the four corners of every patch, fields of shape ``(N, 2, 2)`` indexed ``[patch, u, v]``.
+
+        Derivatives are the corners of the forward-difference nets
+        (:func:`lab.bezier.corner_derivatives`), as in the practical's figure 3.
+        """
+        D = Derivatives(*bezier._corner_values(bezier.homogeneous(self._P, self._w)))  # nets checked on entry
+        if self._w is not None:
+            D = from_homogeneous(D)
+        return self._with_limits(_curv.from_derivatives(D), CORNER_U, CORNER_V)
 
     # -- output -------------------------------------------------------------------
 
@@ -325,6 +339,7 @@ class BezierPatches:
         new._w = None if self._w is None else self._w.copy()
         new.curvature = self.curvature.copy()
         new.colors = self.colors.copy()
+        new._size = self._size
         return new
 
     def __repr__(self):

@@ -30,7 +30,7 @@ def plot_mesh(mesh, plotter, *, show_edges=False, scalars=None, cmap="viridis", 
 VIEW_DIRECTION = (-1.0, -1.2, 1.6)
 
 
-def set_camera(plotter, mesh, direction=VIEW_DIRECTION, zoom=1.1):
+def set_camera(plotter, mesh, direction=VIEW_DIRECTION, zoom=1.0):
     """Look at ``mesh`` from ``direction`` with z up; ``zoom`` > 1 fills more of the view than the bounding sphere."""
     centre = np.asarray(mesh.center, dtype=float)
     d = np.asarray(direction, dtype=float)
