@@ -1,6 +1,6 @@
 """curvature-lab: exact curvature of free-form surfaces for teaching (Versuch 6: Krümmungsvisualisierung)."""
 
-from . import bezier, bspline, colormaps, curvature
+from . import bezier, bspline, colormaps, curvature, surfaces
 from .curvature import Curvature, DegeneratePointWarning, PointClass
 from .derivatives import Derivatives
 from .patches import BezierPatch, BezierPatches, ColorMap, CurvatureMode
@@ -13,6 +13,7 @@ __all__ = [
     "bspline",
     "colormaps",
     "curvature",
+    "surfaces",
     "Curvature",
     "DegeneratePointWarning",
     "PointClass",
