@@ -15,6 +15,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from . import _validation as _v
+from .curvature import unit_normal
 from .patches import CurvatureMode, colors_for, curvature_values, zero_tolerance
 
 __all__ = [
@@ -74,7 +75,7 @@ def _average(labels, n, values):
     return out.reshape((n,) + values.shape[1:])
 
 
-def grid_mesh(points, point_data=None, weld_points=True):
+def grid_mesh(points, point_data=None, weld_points=True, first_data=None):
     """A quad mesh from grids of points, welded across grids.
 
     Parameters
@@ -83,7 +84,12 @@ def grid_mesh(points, point_data=None, weld_points=True):
         ``g`` grids of ``a x b`` points (one per patch).
     point_data : dict of name -> (g, a, b, ...) ndarray
         Values per grid point; averaged over welded points (booleans: any).
+        A field called ``N`` (unit normals) is renormalised after averaging,
+        and where it is NaN (degenerate points) replaced by the mesh normal.
     weld_points : bool
+    first_data : dict of name -> (g, a, b, ...) ndarray
+        Values per grid point of which a welded point keeps the first (e.g.
+        ``uv`` parameters, which differ across the seam of a closed surface).
 
     Returns
     -------
@@ -93,7 +99,12 @@ def grid_mesh(points, point_data=None, weld_points=True):
     idx = np.arange(g * a * b).reshape(g, a, b)
     quads = np.stack([idx[:, :-1, :-1], idx[:, 1:, :-1], idx[:, 1:, 1:], idx[:, :-1, 1:]], axis=-1).reshape(-1, 4)
     flat_points = points.reshape(-1, 3)
-    data = {k: np.asarray(v).reshape((g * a * b,) + np.shape(v)[3:]) for k, v in (point_data or {}).items()}
+
+    def flat(v):
+        return np.asarray(v).reshape((g * a * b,) + np.shape(v)[3:])
+
+    data = {k: flat(v) for k, v in (point_data or {}).items()}
+    first = {k: flat(v) for k, v in (first_data or {}).items()}
     if weld_points:
         labels, n = weld(flat_points)
         quads = labels[quads]
@@ -104,10 +115,24 @@ def grid_mesh(points, point_data=None, weld_points=True):
                 np.logical_or.at(data[k], labels, v)
             else:
                 data[k] = _average(labels, n, v)
+        # the first member of each group: reversed assignment leaves the smallest index
+        order = np.arange(len(labels))[::-1]
+        pick = np.empty(n, dtype=int)
+        pick[labels[order]] = order
+        first = {k: v[pick] for k, v in first.items()}
     faces = np.hstack([np.full((len(quads), 1), 4), quads]).ravel()
     mesh = pv.PolyData(flat_points, faces)
-    for k, v in data.items():
+    for k, v in {**data, **first}.items():
         mesh.point_data[k] = v
+    if "N" in mesh.point_data:
+        N = np.asarray(mesh.point_data["N"])
+        N = N / np.linalg.norm(N, axis=1, keepdims=True)
+        missing = ~np.all(np.isfinite(N), axis=1)
+        if np.any(missing):
+            normals = mesh.compute_normals(point_normals=True, cell_normals=False, auto_orient_normals=False,
+                                           consistent_normals=False, split_vertices=False)
+            N[missing] = normals.point_data["Normals"][missing]
+        mesh.point_data["N"] = N
     return mesh
 
 
@@ -115,6 +140,12 @@ def _bilinear(corner_values, s):
     """Bilinear interpolation of ``(..., 2, 2, c)`` corner values on the grid ``s x s`` (s from 0 to 1)."""
     a = np.stack([1 - s, s], axis=-1)  # (r, 2)
     return np.einsum("ia,jb,...abc->...ijc", a, a, corner_values)
+
+
+def _curvature_data(D, curv):
+    """Point data of a curvature mesh: K, H, k1, k2, degenerate and the unit normal N."""
+    N, _ = unit_normal(D.bu, D.bv)
+    return {"K": curv.K, "H": curv.H, "k1": curv.k1, "k2": curv.k2, "degenerate": curv.degenerate, "N": N}
 
 
 def patches_mesh(patches, resolution=1):
@@ -131,7 +162,7 @@ def patches_mesh(patches, resolution=1):
     -------
     pyvista.PolyData
         Point data ``K``, ``H``, ``k1``, ``k2`` (exact at every node),
-        ``degenerate`` (bool); if the collection has been coloured
+        ``degenerate`` (bool), ``N`` (unit normal b_u x b_v / |b_u x b_v|); if the collection has been coloured
         (``visualize_curvature`` or ``set_colors``), also ``RGB`` (uint8, the
         corner colours interpolated bilinearly inside a patch, as Gouraud
         shading would) and ``values`` (the stored corner values, interpolated).
@@ -139,9 +170,10 @@ def patches_mesh(patches, resolution=1):
     resolution = _v.as_positive_int(resolution, "resolution", minimum=1)
     s = np.linspace(0.0, 1.0, resolution + 1)
     U, V = np.meshgrid(s, s, indexing="ij")
-    points = patches.evaluate(U, V)
+    D = patches.derivatives(U, V)
+    points = D.b
     curv = patches.curvature_at(U, V)
-    data = {"K": curv.K, "H": curv.H, "k1": curv.k1, "k2": curv.k2, "degenerate": curv.degenerate}
+    data = _curvature_data(D, curv)
     if np.all(np.isfinite(patches.colors)):
         data["colors"] = _bilinear(patches.colors, s)
         data["values"] = _bilinear(patches.curvature[..., None], s)[..., 0]
@@ -154,15 +186,16 @@ def patches_mesh(patches, resolution=1):
 def surface_mesh(surface, nu=64, nv=64, curvature_mode=None, color_map=None):
     """A welded mesh of any :class:`lab.Surface` on an ``nu x nv`` parameter grid, with exact curvature.
 
-    Seams of closed surfaces (torus, sphere poles) are welded.  With
+    Seams of closed surfaces (torus, sphere poles) are welded.  Point data as
+    :func:`patches_mesh`, plus ``uv``, the parameters of each vertex.  With
     ``curvature_mode`` and ``color_map`` the point data also holds ``values``
     and ``RGB`` coloured like :meth:`lab.BezierPatches.visualize_curvature`.
     """
     U, V = surface.grid(nu, nv)
-    points = surface.evaluate(U, V)
+    D = surface.derivatives(U, V)
     curv = surface.curvature(U, V)
-    data = {"K": curv.K, "H": curv.H, "k1": curv.k1, "k2": curv.k2, "degenerate": curv.degenerate}
-    mesh = grid_mesh(points[None], {k: v[None] for k, v in data.items()})
+    data = _curvature_data(D, curv)
+    mesh = grid_mesh(D.b[None], {k: v[None] for k, v in data.items()}, first_data={"uv": np.stack([U, V], -1)[None]})
     if curvature_mode is not None and color_map is not None:
         color_curvature(mesh, curvature_mode, color_map)
     return mesh

@@ -23,6 +23,9 @@ class Surface:
 
     #: ((u_min, u_max), (v_min, v_max))
     domain = ((0.0, 1.0), (0.0, 1.0))
+    #: Whether the surface closes on itself in u and in v (x(u_min, v) = x(u_max, v), ...),
+    #: so that paths on it may wrap around (torus, sphere in u, cylinder in u).
+    periodic = (False, False)
 
     def _derivatives(self, u, v):  # pragma: no cover - abstract
         raise NotImplementedError

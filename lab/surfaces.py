@@ -94,7 +94,9 @@ def sphere(radius=1.0):
     profile = r * np.array([[0, -1], [1, -1], [1, 0], [1, 1], [0, 1]], dtype=float)
     w = np.array([1, _S, 1, _S, 1])
     knots = np.array([0, 0, 0, 0.5, 0.5, 1, 1, 1])
-    return _revolve(profile, w, knots, 2, profile_first=False)
+    s = _revolve(profile, w, knots, 2, profile_first=False)
+    s.periodic = (True, False)
+    return s
 
 
 def torus(R=2.0, r=1.0):
@@ -108,7 +110,9 @@ def torus(R=2.0, r=1.0):
     if not (r > 0 and R > r):
         raise ValueError(f"torus needs R > r > 0; got R={R}, r={r}")
     profile = np.column_stack([R + r * _CIRCLE_XY[:, 0], r * _CIRCLE_XY[:, 1]])
-    return _revolve(profile, _CIRCLE_W, _CIRCLE_KNOTS, 2, profile_first=True)
+    s = _revolve(profile, _CIRCLE_W, _CIRCLE_KNOTS, 2, profile_first=True)
+    s.periodic = (True, True)
+    return s
 
 
 def cylinder(r=1.0, h=2.0):
@@ -121,7 +125,9 @@ def cylinder(r=1.0, h=2.0):
     if not (r > 0 and h > 0):
         raise ValueError(f"cylinder needs r > 0 and h > 0; got r={r}, h={h}")
     profile = np.array([[r, 0.0], [r, h]])
-    return _revolve(profile, np.ones(2), np.array([0.0, 0, 1, 1]), 1, profile_first=False)
+    s = _revolve(profile, np.ones(2), np.array([0.0, 0, 1, 1]), 1, profile_first=False)
+    s.periodic = (True, False)
+    return s
 
 
 def cone(radius=1.0, height=1.0):
@@ -152,7 +158,9 @@ def catenoid(c=1.0, height=None):
     half = 1.5 * c if height is None else sp.nsimplify(height) / 2
     u, v = sp.symbols("u v", real=True)
     xyz = (c * sp.cosh(v / c) * sp.cos(u), c * sp.cosh(v / c) * sp.sin(u), v)
-    return ParametricSurface.from_sympy(xyz, (u, v), ((0, 2 * sp.pi), (-half, half)), name="catenoid")
+    s = ParametricSurface.from_sympy(xyz, (u, v), ((0, 2 * sp.pi), (-half, half)), name="catenoid")
+    s.periodic = (True, False)
+    return s
 
 
 def _bezier_from_function(f, m, n):
@@ -202,7 +210,9 @@ def sine_wave(amplitude=0.5, frequency=1.0, radius=2 * np.pi):
     rho, phi = sp.symbols("rho phi", real=True)
     A, w = sp.nsimplify(amplitude), sp.nsimplify(frequency)
     xyz = (rho * sp.cos(phi), rho * sp.sin(phi), A * sp.cos(w * rho))
-    return ParametricSurface.from_sympy(xyz, (rho, phi), ((0, float(radius)), (0, 2 * sp.pi)), name="sine wave")
+    s = ParametricSurface.from_sympy(xyz, (rho, phi), ((0, float(radius)), (0, 2 * sp.pi)), name="sine wave")
+    s.periodic = (False, True)
+    return s
 
 
 def hood():

@@ -139,3 +139,19 @@ def test_render_matches_stored_reference(tmp_path):
     assert mean < 3.0 and frac < 0.02, f"picture differs from {reference}: mean {mean:.2f}, {frac:.1%} pixels; see {tmp_path}"
     # and it is not blank: the surface covers a good part of the picture and is coloured
     assert np.mean(np.any(image < 250, axis=-1)) > 0.1
+
+
+def test_mesh_normals_and_parameters():
+    with pytest.warns(lab.DegeneratePointWarning):
+        m = M.surface_mesh(surfaces.sphere(2.0), 9, 7)
+    N = m.point_data["N"]
+    np.testing.assert_allclose(np.linalg.norm(N, axis=1), 1.0, rtol=1e-12)
+    # outward normals on this sphere, including the poles (filled from the mesh there)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", N, m.points / 2.0), 1.0, atol=0.05)
+    interior = ~m.point_data["degenerate"]
+    np.testing.assert_allclose(np.einsum("ij,ij->i", N, m.points / 2.0)[interior], 1.0, atol=1e-12)
+    t = M.surface_mesh(surfaces.torus(), 9, 9)
+    uv = t.point_data["uv"]
+    assert uv.shape == (64, 2) and uv.min() == 0 and uv.max() < 1  # the seam keeps u = 0, not an average
+    np.testing.assert_allclose(t.points, surfaces.torus().evaluate(uv[:, 0], uv[:, 1]), atol=1e-12)
+    assert surfaces.torus().periodic == (True, True) and surfaces.practical().periodic == (False, False)
