@@ -117,10 +117,21 @@ def build_parser():
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.add_argument("-o", "--output", required=True, help="output file (.png, .html, .off, .vtk, .vtp, .bez)")
     r.set_defaults(func=_render)
+    sub.add_parser("grade", help="grade a notebook or a folder of submissions (curvature-lab grade --help)", add_help=False)
+    sub.add_parser("exercises", help="generate exercises/ from solutions/ (curvature-lab exercises --help)", add_help=False)
     return parser
 
 
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] == "grade":
+        from . import grading
+
+        return grading.main(argv[1:])
+    if argv and argv[0] == "exercises":
+        from . import notebooks
+
+        return notebooks.main(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command == "render" and args.resolution < 1:

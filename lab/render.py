@@ -5,7 +5,7 @@ import os
 import numpy as np
 import pyvista as pv
 
-__all__ = ["configure_offscreen", "plot_mesh", "set_camera", "screenshot", "export_html", "VIEW_DIRECTION"]
+__all__ = ["configure_offscreen", "plot_mesh", "set_camera", "screenshot", "export_html", "show", "VIEW_DIRECTION"]
 
 
 def configure_offscreen():
@@ -62,3 +62,68 @@ def export_html(mesh, path, *, show_edges=False):
     set_camera(plotter, mesh)
     plotter.export_html(str(path))
     plotter.close()
+
+
+def _as_mesh(obj, curvature, color_map, resolution, n):
+    """A curvature mesh for patches, a surface or a mesh (see :func:`show`)."""
+    from . import mesh as _mesh
+    from .patches import BezierPatches
+
+    if isinstance(obj, pv.PolyData):
+        return obj
+    if isinstance(obj, BezierPatches):
+        if curvature is not None and color_map is not None:
+            obj = obj.copy()
+            BezierPatches.visualize_curvature(obj, curvature, color_map)
+        return _mesh.patches_mesh(obj, resolution=resolution)
+    if hasattr(obj, "derivatives") and hasattr(obj, "domain"):
+        return _mesh.surface_mesh(obj, n, n, curvature, color_map)
+    raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
+
+
+def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=False, net=False, title=None,
+         resolution=1, n=64, direction=VIEW_DIRECTION):
+    """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
+
+    Parameters
+    ----------
+    obj : BezierPatches, lab surface or pyvista.PolyData
+        Patches are shown with the colours their ``visualize_curvature`` stored
+        (or, with ``curvature`` and ``color_map``, coloured by the library).
+    curvature, color_map : str, optional
+        Colour a surface (or patches) by this curvature and map.
+    edges : bool
+        Draw mesh edges (for patches at resolution 1: the patch borders).
+    net : bool
+        Draw the control nets of patches.
+    """
+    from IPython.display import Image
+
+    configure_offscreen()
+    mesh = _as_mesh(obj, curvature, color_map, resolution, n)
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    plotter.set_background("white")
+    if "RGB" in mesh.point_data:
+        plot_mesh(mesh, plotter, show_edges=edges)
+    else:
+        plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True)
+    if net and hasattr(obj, "control_points"):
+        P = np.asarray(obj.control_points)
+        P = P[None] if P.ndim == 3 else P
+        lines = []
+        for net_ in P:
+            lines += [pv.lines_from_points(row) for row in net_] + [pv.lines_from_points(col) for col in net_.transpose(1, 0, 2)]
+        plotter.add_mesh(pv.merge(lines), color="black", line_width=1)
+        plotter.add_points(P.reshape(-1, 3), color="black", point_size=5, render_points_as_spheres=True)
+    if title:
+        plotter.add_text(title, font_size=11, color="black")
+    set_camera(plotter, mesh, direction)
+    png = plotter.screenshot(None, return_img=True)
+    plotter.close()
+    import io
+
+    from PIL import Image as PILImage
+
+    buf = io.BytesIO()
+    PILImage.fromarray(np.asarray(png)).save(buf, format="PNG")
+    return Image(data=buf.getvalue(), format="png")
