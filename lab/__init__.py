@@ -1,10 +1,11 @@
 """curvature-lab: exact curvature of free-form surfaces for teaching (Versuch 6: Krümmungsvisualisierung)."""
 
-from . import bezier, bspline, colormaps, curvature, surfaces
+from . import bezier, bspline, colormaps, curvature, surfaces, trimming
 from .curvature import Curvature, DegeneratePointWarning, PointClass
 from .derivatives import Derivatives
 from .patches import BezierPatch, BezierPatches, ColorMap, CurvatureMode
 from .surface import BezierSurface, BSplineSurface, ParametricSurface, Surface
+from .trimming import BSplineLoop, TrimmedSurface, trimmed
 
 __version__ = "0.1.0"
 
@@ -26,4 +27,8 @@ __all__ = [
     "BSplineSurface",
     "ParametricSurface",
     "Surface",
+    "trimming",
+    "BSplineLoop",
+    "TrimmedSurface",
+    "trimmed",
 ]

@@ -1,0 +1,296 @@
+"""lab.check: fresh exact cases, hints that name the mistake, robustness against broken student code."""
+
+import math
+import time
+
+import numpy as np
+import pytest
+
+import lab
+from lab import check
+from lab.colormaps import f1, f2, f3, h
+
+
+def make_solution(mistake=None):
+    """The notebook's visualize_curvature, optionally with one classic mistake."""
+
+    class Student(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            values = []
+            for patch in self:
+                P = patch.control_points
+                m, n = patch.degree
+                if mistake == "swapped_degrees":
+                    m, n = n, m
+                fu2, fv2 = (m, n) if mistake == "second_factor" else (m * (m - 1), n * (n - 1))
+                if mistake == "no_factors":
+                    m = n = fu2 = fv2 = 1
+                bu = m * (P[1:] - P[:-1])
+                bv = n * (P[:, 1:] - P[:, :-1])
+                buu = fu2 * (P[2:] - 2 * P[1:-1] + P[:-2])
+                buv = m * n * (P[1:, 1:] - P[1:, :-1] - P[:-1, 1:] + P[:-1, :-1])
+                bvv = fv2 * (P[:, 2:] - 2 * P[:, 1:-1] + P[:, :-2])
+                corners = []
+                for a, b in ((0, 0), (0, 1), (1, 0), (1, 1)):
+                    i, j = -a, -b
+                    N = np.cross(bu[i, j], bv[i, j])
+                    if mistake != "unnormalised":
+                        N = N / np.linalg.norm(N)
+                    if mistake == "orientation":
+                        N = -N
+                    E, F, G = bu[i, j] @ bu[i, j], bu[i, j] @ bv[i, j], bv[i, j] @ bv[i, j]
+                    e, f, g = N @ buu[i, j], N @ buv[i, j], N @ bvv[i, j]
+                    K = (e * g - f * f) / (E * G - F * F)
+                    H = (e * G - 2 * f * F + g * E) / (E * G - F * F)
+                    if mistake != "no_half":
+                        H = 0.5 * H
+                    root = math.sqrt(H * H - K) if mistake == "sqrt" else math.sqrt(max(H * H - K, 0.0))
+                    corners.append({self.CURVATURE_GAUSSIAN: K, self.CURVATURE_AVERAGE: H,
+                                    self.CURVATURE_PRINCIPAL_MAX: H + root,
+                                    self.CURVATURE_PRINCIPAL_MIN: H - root}[curvature_mode])
+                if mistake == "corner_order":
+                    corners = [corners[0], corners[2], corners[1], corners[3]]
+                patch.set_curvature(*corners)
+                values.extend(corners)
+            kmin, kmax = min(values), max(values)
+            for patch in self:
+                colours = []
+                for x in patch.curvature.ravel():
+                    if color_map == self.COLOR_MAP_LINEAR:
+                        t = (x - kmin) / (kmax - kmin) if mistake == "f2_zero" else f2(x, kmin, kmax)
+                    elif color_map == self.COLOR_MAP_CUT:
+                        t = f1(x)
+                    else:
+                        t = (0.5 if x == 0 else float(x > 0)) if mistake == "f3_exact" else f3(x)
+                    colours.append(tuple(h(t)))
+                patch.set_colors(*colours)
+
+    return Student
+
+
+def test_reference_solution_passes_public_and_graded():
+    for graded in (False, True):
+        rep = check.visualize_curvature(make_solution(), graded=graded)
+        assert rep.passed, str(rep)
+        assert rep.score == 1.0
+    public = check.visualize_curvature(make_solution())
+    assert "Public checks passed; the graded run adds more cases." in str(public)
+    graded = check.visualize_curvature(make_solution(), graded=True)
+    assert len(graded.cases) > len(public.cases) and "graded run adds" not in str(graded)
+
+
+MUTANT_HINTS = {
+    "swapped_degrees": "m and n are swapped",
+    "no_factors": "need the degree factors",
+    "second_factor": "need m(m-1) and n(n-1)",
+    "unnormalised": "you used the cross product without dividing by its length",
+    "orientation": "opposite orientation",
+    "no_half": "the factor ½ is missing",
+    "corner_order": "c01 = the value at u = 0, v = 1",
+    "sqrt": "use √(max(H² − K, 0))",
+    "f2_zero": "f2 must not divide by zero",
+    "f3_exact": "f3 must compare with a tolerance",
+}
+
+
+@pytest.mark.parametrize("mistake", sorted(MUTANT_HINTS))
+def test_each_classic_mistake_fails_with_its_hint(mistake):
+    rep = check.visualize_curvature(make_solution(mistake), seed=7)
+    assert not rep.passed
+    assert MUTANT_HINTS[mistake] in str(rep), str(rep)
+
+
+def test_swapped_degrees_only_shows_on_non_square_patches():
+    rep = check.visualize_curvature(make_solution("swapped_degrees"), seed=3)
+    first_square = rep.cases[0]
+    assert first_square.name.startswith("one 3×3 patch") and first_square.passed
+    assert not all(c.passed for c in rep.cases)
+
+
+def test_umbilic_sqrt_mistake_names_umbilics_when_numpy_gives_nan():
+    class NanSqrt(make_solution()):
+        def visualize_curvature(self, curvature_mode, color_map):
+            super_impl = make_solution()
+            super_impl.visualize_curvature(self, curvature_mode, color_map)
+            self.curvature[0, 0, 0] = np.nan  # what np.sqrt of a negative number leaves behind
+
+    rep = check.visualize_curvature(NanSqrt, seed=1)
+    assert "umbilic" in str(rep) and "max(H² − K, 0)" in str(rep)
+
+
+def test_stub_garbage_errors_and_endless_loops_are_reported():
+    class Stub(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            raise NotImplementedError("compute the curvature at the corners")
+
+    rep = check.visualize_curvature(Stub)
+    assert rep.status == "not implemented" and "not implemented yet" in str(rep)
+    assert "compute the curvature at the corners" in str(rep)
+
+    class Crash(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            values = {}
+            return values["K"]
+
+    rep = check.visualize_curvature(Crash)
+    assert rep.status == "error"
+    assert "KeyError: 'K'" in rep.message and 'return values["K"]' in rep.message
+    assert "lab/check.py" not in rep.message  # no checker internals
+
+    class Nothing(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            pass
+
+    rep = check.visualize_curvature(Nothing)
+    assert not rep.passed and "call patch.set_curvature(c00, c01, c10, c11) for every patch" in str(rep)
+
+    class Forever(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            while True:
+                pass
+
+    start = time.perf_counter()
+    rep = check.visualize_curvature(Forever, timeout=1.5)
+    assert time.perf_counter() - start < 10
+    assert rep.status == "timeout" and "visualize_curvature was stopped after 1.5 s" in rep.message
+
+    class Swallow(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            try:
+                while True:
+                    pass
+            except Exception:  # cannot hide the time limit
+                pass
+
+    assert check.visualize_curvature(Swallow, timeout=1.0).status == "timeout"
+
+
+def test_delegation_to_the_library_is_refused():
+    class Super(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            super().visualize_curvature(curvature_mode, color_map)
+
+    rep = check.visualize_curvature(Super)
+    assert rep.status == "delegated" and "BezierPatches.visualize_curvature" in rep.message
+    assert "allowed helpers: lab.colormaps.h, f1, f2, f3" in rep.message
+
+    from lab.curvature import from_derivatives  # imported before the check: still caught
+
+    class Alias(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            d = lab.bezier.Derivatives(*(np.ones((2, 2, 3)),) * 6)
+            try:
+                from_derivatives(d)
+            except Exception:
+                pass
+            make_solution().visualize_curvature(self, curvature_mode, color_map)
+
+    rep = check.visualize_curvature(Alias)
+    assert rep.status == "delegated" and "lab.curvature.from_derivatives" in rep.message
+    assert lab.curvature.from_derivatives(lab.bezier.derivatives(np.eye(3)[None].repeat(2, 0), 0.5, 0.5)).K.shape == ()
+
+    class NoOverride(lab.BezierPatches):
+        pass
+
+    assert check.visualize_curvature(NoOverride).status == "delegated"
+
+
+def test_non_class_input_gives_a_message():
+    rep = check.visualize_curvature(lambda self: None)
+    assert rep.status == "error" and "expected a subclass of lab.BezierPatches" in rep.message
+
+
+def test_small_tasks_and_their_hints():
+    good = {
+        "warmup": lambda k1, k2: (k1 + k2) / 2,
+        "curve_curvature": lambda d1, d2: np.linalg.norm(np.cross(d1, d2)) / np.linalg.norm(d1) ** 3,
+        "h": lambda x: tuple(lab.colormaps.h.__wrapped__(x)) if hasattr(lab.colormaps.h, "__wrapped__") else
+        ((0, 4 * x, 1) if x <= 0.25 else (0, 1, 2 - 4 * x) if x <= 0.5 else (4 * x - 2, 1, 0) if x <= 0.75 else (1, 4 - 4 * x, 0)),
+        "f1": lambda x: min(max(x, 0.0), 1.0),
+        "f2": lambda x, lo, hi: 0.5 if hi == lo else (x - lo) / (hi - lo),
+        "f3": lambda x: 0.5 if abs(x) <= 1e-9 else float(x > 0),
+    }
+    for task, func in good.items():
+        rep = check.run(task, func)
+        assert rep.passed, str(rep)
+
+    bad = [
+        ("curve_curvature", lambda d1, d2: np.linalg.norm(np.cross(d1, d2)) / np.linalg.norm(d1) ** 2, "divide by |c'|³"),
+        ("curve_curvature", lambda d1, d2: np.linalg.norm(d2), "only when the curve has unit speed"),
+        ("warmup", lambda k1, k2: k1 * k2, "k1 * k2 is the Gaussian curvature"),
+        ("f2", lambda x, lo, hi: (x - lo) / (hi - lo), "return 0.5 (green)"),
+        ("f3", lambda x: 0.5 if x == 0 else float(x > 0), "compare |x| with a small tolerance"),
+        ("h", lambda x: (0, 255 * x, 255), "not 0–255"),
+    ]
+    for task, func, hint in bad:
+        rep = check.run(task, func)
+        assert not rep.passed and hint in str(rep), (task, str(rep))
+
+
+def _ff(bu, bv, buu, buv, bvv, unit=True, sign=1):
+    N = np.cross(bu, bv)
+    if unit:
+        N = N / np.linalg.norm(N)
+    N = sign * N
+    return bu @ bu, bu @ bv, bv @ bv, N @ buu, N @ buv, N @ bvv
+
+
+def _curv(E, F, G, e, f, g, half=True, clamp=True):
+    det = E * G - F * F
+    K = (e * g - f * f) / det
+    H = (e * G - 2 * f * F + g * E) / det * (0.5 if half else 1)
+    root = math.sqrt(max(H * H - K, 0)) if clamp else math.sqrt(H * H - K)
+    return K, H, H + root, H - root
+
+
+def test_fundamental_forms_and_curvatures_hints():
+    assert check.fundamental_forms(_ff).passed
+    assert VARIANT("unnormalised") in str(check.fundamental_forms(lambda *a: _ff(*a, unit=False)))
+    assert "opposite orientation" in str(check.fundamental_forms(lambda *a: _ff(*a, sign=-1)))
+    assert check.curvatures(_curv).passed
+    assert "factor ½ is missing" in str(check.curvatures(lambda *a: _curv(*a, half=False)))
+    rep = check.curvatures(lambda *a: _curv(*a, clamp=False))
+    assert rep.status == "error" and "math domain error" in rep.message
+    rep = check.curvatures(lambda *a: np.array(_curv(*a))[[0, 1, 3, 2]])
+    assert "larger principal curvature" in str(rep)
+
+
+def VARIANT(name):
+    return check.VARIANT_HINTS[name][:40]
+
+
+def _nets(P):
+    m, n = P.shape[0] - 1, P.shape[1] - 1
+    return (m * np.diff(P, axis=0), n * np.diff(P, axis=1), m * (m - 1) * np.diff(P, 2, axis=0),
+            m * n * np.diff(np.diff(P, axis=0), axis=1), n * (n - 1) * np.diff(P, 2, axis=1))
+
+
+def test_derivative_nets_and_corners_hints():
+    assert check.derivative_nets(_nets).passed
+    no_factors = lambda P: (np.diff(P, axis=0), np.diff(P, axis=1), np.diff(P, 2, axis=0),  # noqa: E731
+                            np.diff(np.diff(P, axis=0), axis=1), np.diff(P, 2, axis=1))
+    assert "need the degree factors" in str(check.derivative_nets(no_factors))
+
+    def swapped(P):
+        n, m = P.shape[0] - 1, P.shape[1] - 1
+        return (m * np.diff(P, axis=0), n * np.diff(P, axis=1), m * (m - 1) * np.diff(P, 2, axis=0),
+                m * n * np.diff(np.diff(P, axis=0), axis=1), n * (n - 1) * np.diff(P, 2, axis=1))
+
+    assert "m and n are swapped" in str(check.derivative_nets(swapped))
+    corners = lambda P: tuple(D[[0, -1]][:, [0, -1]] for D in _nets(P))  # noqa: E731
+    assert check.corner_derivatives(corners).passed
+    transposed = lambda P: tuple(np.swapaxes(D[[0, -1]][:, [0, -1]], 0, 1) for D in _nets(P))  # noqa: E731
+    assert "corners mixed up" in str(check.corner_derivatives(transposed))
+    blocked = lambda P: tuple(lab.bezier.corner_derivatives(P)[1:])  # noqa: E731
+    assert check.corner_derivatives(blocked).status == "delegated"
+
+
+def test_cases_are_fresh_each_run_and_reproducible_with_a_seed():
+    from lab.check import _rand_net
+
+    a = _rand_net(np.random.default_rng(), 2, 3)
+    b = _rand_net(np.random.default_rng(), 2, 3)
+    assert not np.array_equal(a, b)
+    c = _rand_net(np.random.default_rng(5), 2, 3)
+    d = _rand_net(np.random.default_rng(5), 2, 3)
+    np.testing.assert_array_equal(c, d)
