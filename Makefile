@@ -7,7 +7,7 @@ STAMP  := $(VENV)/.installed
 APT_PACKAGES := libegl1 libgl1-mesa-dri
 PORT ?= 8888
 
-.PHONY: lab test setup system-deps venv clean benchmarks
+.PHONY: lab test setup system-deps venv clean benchmarks exercises
 
 # Debian packages that offscreen rendering (EGL) needs; installed only when missing.
 system-deps:
@@ -35,7 +35,11 @@ lab: setup
 	$(PY) -m jupyter lab --notebook-dir=exercises --port=$(PORT) $(if $(DISPLAY),,--no-browser)
 
 test: setup
-	$(PY) -m pytest -n 2 --dist loadfile
+	$(PY) -m pytest -n 2
+
+# Regenerate exercises/ from solutions/ (refuses to overwrite exercises a student has edited).
+exercises: setup
+	$(PY) -m lab.notebooks
 
 benchmarks: setup
 	$(PY) benchmarks/curvature.py

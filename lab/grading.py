@@ -142,6 +142,7 @@ def grade_notebook(path, *, timeout=60, check_timeout=20.0, kernel_name="python3
     client = NotebookClient(
         nb, timeout=timeout, kernel_name=kernel_name, allow_errors=True, interrupt_on_timeout=True,
         resources={"metadata": {"path": str(path.parent.resolve())}},
+        extra_arguments=["--IPKernelApp.log_level=ERROR"],  # no transport warnings in the report
     )
     try:
         with client.setup_kernel():
@@ -154,8 +155,13 @@ def grade_notebook(path, *, timeout=60, check_timeout=20.0, kernel_name="python3
                     result.cell_errors.append({"cell": index, "error": f"stopped after {timeout:g} s (endless loop?)"})
                     continue
                 for out in cell.get("outputs", []):
-                    if out.get("output_type") == "error":
-                        result.cell_errors.append({"cell": index, "error": f"{out['ename']}: {out['evalue']}"})
+                    if out.get("output_type") != "error":
+                        continue
+                    if out["ename"] == "KeyboardInterrupt":  # nbclient interrupted the cell at the time limit
+                        message = f"stopped after {timeout:g} s (endless loop?)"
+                    else:
+                        message = f"{out['ename']}: {out['evalue']}"
+                    result.cell_errors.append({"cell": index, "error": message})
             code = (
                 "import json as _json, lab.grading as _grading\n"
                 f"print({SENTINEL!r} + _json.dumps(_grading.run_tasks(globals(), {tasks!r}, {check_timeout!r})))"
