@@ -1,11 +1,21 @@
 """curvature-lab: exact curvature of free-form surfaces for teaching (Versuch 6: Krümmungsvisualisierung)."""
 
-from . import bezier, bspline, colormaps, curvature, surfaces, trimming
+from . import bezier, bspline, colormaps, curvature, focal, reflection, surfaces, trimming
 from .curvature import Curvature, DegeneratePointWarning, PointClass
 from .derivatives import Derivatives
 from .patches import BezierPatch, BezierPatches, ColorMap, CurvatureMode
 from .surface import BezierSurface, BSplineSurface, ParametricSurface, Surface
 from .trimming import BSplineLoop, TrimmedSurface, trimmed
+from .interrogation import (
+    FocalSheetWarning,
+    focal_sheets,
+    focal_surface,
+    isophotes,
+    parabolic_lines,
+    polylines,
+    reflection_lines,
+    stripe_mapping,
+)
 
 __version__ = "0.1.0"
 
@@ -31,4 +41,14 @@ __all__ = [
     "BSplineLoop",
     "TrimmedSurface",
     "trimmed",
+    "focal",
+    "reflection",
+    "FocalSheetWarning",
+    "focal_sheets",
+    "focal_surface",
+    "isophotes",
+    "parabolic_lines",
+    "polylines",
+    "reflection_lines",
+    "stripe_mapping",
 ]

@@ -34,7 +34,7 @@ __all__ = [
 WELD_RTOL = 1e-9
 
 
-def weld(points, rtol=WELD_RTOL):
+def weld(points, rtol=WELD_RTOL, extent=None):
     """Labels that merge coincident points.
 
     Parameters
@@ -42,6 +42,8 @@ def weld(points, rtol=WELD_RTOL):
     points : (k, 3) ndarray
     rtol : float
         Merge distance relative to the bounding-box diagonal.
+    extent : float, optional
+        The length the tolerance is relative to (default: the points' bounding-box diagonal).
 
     Returns
     -------
@@ -52,7 +54,8 @@ def weld(points, rtol=WELD_RTOL):
         Number of welded points.
     """
     points = np.asarray(points, dtype=float)
-    extent = np.linalg.norm(points.max(axis=0) - points.min(axis=0)) if len(points) else 0.0
+    if extent is None:
+        extent = np.linalg.norm(points.max(axis=0) - points.min(axis=0)) if len(points) else 0.0
     tol = rtol * max(extent, 1e-300)
     pairs = cKDTree(points).query_pairs(tol, output_type="ndarray")
     k = len(points)
@@ -66,16 +69,28 @@ def _average(labels, n, values):
     values = np.asarray(values, dtype=float)
     flat = values.reshape(len(values), -1)
     finite = np.isfinite(flat)
-    sums = np.zeros((n, flat.shape[1]))
-    counts = np.zeros((n, flat.shape[1]))
-    np.add.at(sums, labels, np.where(finite, flat, 0.0))
-    np.add.at(counts, labels, finite)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        out = np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+    out = np.empty((n, flat.shape[1]))
+    for c in range(flat.shape[1]):  # bincount is much faster than np.add.at
+        counts = np.bincount(labels, weights=finite[:, c], minlength=n)
+        sums = np.bincount(labels, weights=np.where(finite[:, c], flat[:, c], 0.0), minlength=n)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out[:, c] = np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
     return out.reshape((n,) + values.shape[1:])
 
 
-def grid_mesh(points, point_data=None, weld_points=True, first_data=None):
+def _index_labels(g, a, b, grid_shape):
+    """Welded vertex labels of patch grids that tile a rectangle: patch (I, J) point (s, t) -> (I(a-1)+s, J(b-1)+t)."""
+    rows, cols = grid_shape
+    I, J = np.divmod(np.arange(g), cols)
+    s = np.arange(a)
+    t = np.arange(b)
+    gi = I[:, None, None] * (a - 1) + s[None, :, None]
+    gj = J[:, None, None] * (b - 1) + t[None, None, :]
+    width = cols * (b - 1) + 1
+    return (gi * width + gj).ravel(), (rows * (a - 1) + 1) * width, width
+
+
+def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_shape=None):
     """A quad mesh from grids of points, welded across grids.
 
     Parameters
@@ -90,6 +105,10 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None):
     first_data : dict of name -> (g, a, b, ...) ndarray
         Values per grid point of which a welded point keeps the first (e.g.
         ``uv`` parameters, which differ across the seam of a closed surface).
+    grid_shape : (rows, columns), optional
+        The grids tile a rectangle in row-major order: shared points are
+        welded by index (fast), and only the outer boundary is welded by
+        distance (seams of closed surfaces, collapsed edges).
 
     Returns
     -------
@@ -106,20 +125,31 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None):
     data = {k: flat(v) for k, v in (point_data or {}).items()}
     first = {k: flat(v) for k, v in (first_data or {}).items()}
     if weld_points:
-        labels, n = weld(flat_points)
+        if grid_shape is not None:
+            labels, n, width = _index_labels(g, a, b, grid_shape)
+            # weld the rectangle's boundary by distance too (seams, poles): a few points only
+            boundary = np.zeros(n, bool)
+            boundary[:width] = boundary[-width:] = True
+            boundary[::width] = boundary[width - 1 :: width] = True
+            pos = np.zeros((n, 3))
+            pos[labels] = flat_points
+            b_idx = np.nonzero(boundary)[0]
+            b_labels, _ = weld(pos[b_idx], extent=float(np.linalg.norm(np.ptp(flat_points, axis=0))))
+            remap = np.arange(n)
+            remap[b_idx] = b_idx[_first_of(b_labels)[b_labels]]
+            labels = remap[labels]
+            _, labels = np.unique(labels, return_inverse=True)
+            n = int(labels.max()) + 1
+        else:
+            labels, n = weld(flat_points)
         quads = labels[quads]
         flat_points = _average(labels, n, flat_points)
         for k, v in data.items():
             if v.dtype == bool:
-                data[k] = np.zeros(n, bool)
-                np.logical_or.at(data[k], labels, v)
+                data[k] = np.bincount(labels, weights=v, minlength=n) > 0
             else:
                 data[k] = _average(labels, n, v)
-        # the first member of each group: reversed assignment leaves the smallest index
-        order = np.arange(len(labels))[::-1]
-        pick = np.empty(n, dtype=int)
-        pick[labels[order]] = order
-        first = {k: v[pick] for k, v in first.items()}
+        first = {k: v[_first_of(labels, n)] for k, v in first.items()}
     faces = np.hstack([np.full((len(quads), 1), 4), quads]).ravel()
     mesh = pv.PolyData(flat_points, faces)
     for k, v in {**data, **first}.items():
@@ -131,9 +161,19 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None):
         if np.any(missing):
             normals = mesh.compute_normals(point_normals=True, cell_normals=False, auto_orient_normals=False,
                                            consistent_normals=False, split_vertices=False)
-            N[missing] = normals.point_data["Normals"][missing]
+            fill = np.asarray(normals.point_data["Normals"][missing], dtype=float)
+            N[missing] = fill / np.linalg.norm(fill, axis=1, keepdims=True)  # VTK's normals are float32
         mesh.point_data["N"] = N
     return mesh
+
+
+def _first_of(labels, n=None):
+    """For labels 0..n-1: the index of the first element carrying each label."""
+    n = int(labels.max()) + 1 if n is None else n
+    order = np.arange(len(labels))[::-1]
+    pick = np.empty(n, dtype=int)
+    pick[labels[order]] = order  # reversed assignment leaves the smallest index
+    return pick
 
 
 def _bilinear(corner_values, s):
@@ -162,22 +202,27 @@ def patches_mesh(patches, resolution=1):
     -------
     pyvista.PolyData
         Point data ``K``, ``H``, ``k1``, ``k2`` (exact at every node),
-        ``degenerate`` (bool), ``N`` (unit normal b_u x b_v / |b_u x b_v|); if the collection has been coloured
-        (``visualize_curvature`` or ``set_colors``), also ``RGB`` (uint8, the
-        corner colours interpolated bilinearly inside a patch, as Gouraud
-        shading would) and ``values`` (the stored corner values, interpolated).
+        ``degenerate`` (bool), ``N`` (unit normal b_u x b_v / |b_u x b_v|); if
+        the collection has been coloured (``visualize_curvature`` or
+        ``set_colors``), also ``RGB`` (uint8, the corner colours interpolated
+        bilinearly inside a patch, as Gouraud shading would) and ``values``
+        (the stored corner values, interpolated).  Patches that tile a grid
+        (:attr:`lab.BezierPatches.grid_shape`) are welded by index, others by distance.
     """
     resolution = _v.as_positive_int(resolution, "resolution", minimum=1)
     s = np.linspace(0.0, 1.0, resolution + 1)
-    U, V = np.meshgrid(s, s, indexing="ij")
-    D = patches.derivatives(U, V)
-    points = D.b
-    curv = patches.curvature_at(U, V)
+    if resolution == 1:
+        D = patches.corner_derivatives()
+        curv = patches.corner_curvature(D)
+    else:
+        U, V = np.meshgrid(s, s, indexing="ij")
+        D = patches.derivatives(U, V)
+        curv = patches.curvature_at(U, V)
     data = _curvature_data(D, curv)
     if np.all(np.isfinite(patches.colors)):
         data["colors"] = _bilinear(patches.colors, s)
         data["values"] = _bilinear(patches.curvature[..., None], s)[..., 0]
-    mesh = grid_mesh(points, data)
+    mesh = grid_mesh(D.b, data, grid_shape=patches.grid_shape)
     if "colors" in mesh.point_data:
         mesh.point_data["RGB"] = np.round(255 * np.clip(mesh.point_data.pop("colors"), 0, 1)).astype(np.uint8)
     return mesh

@@ -81,6 +81,12 @@ def colors_for(values, color_map, *, tol=colormaps.ZERO_TOL, **options):
     return out
 
 
+def _grid_order(children, rows, cols):
+    """Reorder (rows*cols, 2, 2, ...) children into the row-major order of the (2 rows, 2 cols) grid."""
+    c = children.reshape((rows, cols, 2, 2) + children.shape[3:])
+    return np.swapaxes(c, 1, 2).reshape((4 * rows * cols,) + children.shape[3:])
+
+
 class BezierPatch:
     """View of one patch of a :class:`BezierPatches` collection (the practical's ``bezier_surface``)."""
 
@@ -173,7 +179,7 @@ class BezierPatches:
     COLOR_MAP_CUT = ColorMap.CUT
     COLOR_MAP_CLASSIFICATION = ColorMap.CLASSIFICATION
 
-    def __init__(self, control_points, weights=None):
+    def __init__(self, control_points, weights=None, grid_shape=None):
         P = _v.as_control_net(control_points, "control points", batch=True)
         if P.ndim == 3:  # a single net is one patch
             P = P[None]
@@ -183,7 +189,23 @@ class BezierPatches:
             raise ValueError(f"control points must have shape (N, m+1, n+1, 3); got {P.shape}")
         self._P = P
         self._w = _v.as_weights(weights, P.shape[:3])
+        if grid_shape is not None:
+            grid_shape = tuple(int(x) for x in grid_shape)
+            if len(grid_shape) != 2 or grid_shape[0] * grid_shape[1] != len(P):
+                raise ValueError(f"grid_shape must be (rows, columns) with rows * columns = {len(P)} patches; "
+                                 f"got {grid_shape}")
+        self._grid = grid_shape
         self._reset()
+
+    @property
+    def grid_shape(self):
+        """``(rows, columns)`` when the patches tile a rectangle of the (u, v) plane in row-major order
+        (patch ``i * columns + j`` is the i-th along u and j-th along v, neighbours share edges), else None.
+
+        Set by ``to_bezier_patches`` of B-spline and Bézier surfaces and kept by :meth:`refine`;
+        meshes use it to weld shared corners by index.
+        """
+        return self._grid
 
     def _reset(self):
         self._size = None
@@ -228,7 +250,13 @@ class BezierPatches:
         """
         num = _v.as_positive_int(num, "num", minimum=0)
         for _ in range(num):
-            children, w = bezier.subdivide(self._P, 0.5, 0.5, self._w)
+            children, w = bezier.subdivide(self._P, 0.5, 0.5, self._w)  # (N, 2, 2, ...)
+            if self._grid is not None:
+                # keep the row-major grid: child (a, b) of patch (i, j) goes to (2i + a, 2j + b)
+                rows, cols = self._grid
+                children = _grid_order(children, rows, cols)
+                w = None if w is None else _grid_order(w, rows, cols)
+                self._grid = (2 * rows, 2 * cols)
             self._P = children.reshape((-1,) + self._P.shape[1:])
             self._w = None if w is None else w.reshape((-1,) + self._w.shape[1:])
         self._reset()
@@ -301,15 +329,21 @@ class BezierPatches:
 
         return _curv.with_limits(curv, u, v, (0.5, 0.5), derivatives_at)
 
-    def corner_curvature(self):
-        """Exact curvature at the four corners of every patch, fields of shape ``(N, 2, 2)`` indexed ``[patch, u, v]``.
+    def corner_derivatives(self):
+        """Derivatives at the four corners of every patch, fields ``(N, 2, 2, 3)`` indexed ``[patch, u, v]``.
 
-        Derivatives are the corners of the forward-difference nets
+        Read off the corners of the forward-difference nets
         (:func:`lab.bezier.corner_derivatives`), as in the practical's figure 3.
         """
         D = Derivatives(*bezier._corner_values(bezier.homogeneous(self._P, self._w)))  # nets checked on entry
-        if self._w is not None:
-            D = from_homogeneous(D)
+        return D if self._w is None else from_homogeneous(D)
+
+    def corner_curvature(self, derivatives=None):
+        """Exact curvature at the four corners of every patch, fields of shape ``(N, 2, 2)`` indexed ``[patch, u, v]``.
+
+        ``derivatives`` may pass in :meth:`corner_derivatives` when the caller already has them.
+        """
+        D = self.corner_derivatives() if derivatives is None else derivatives
         return self._with_limits(_curv.from_derivatives(D), CORNER_U, CORNER_V)
 
     # -- output -------------------------------------------------------------------
@@ -340,6 +374,7 @@ class BezierPatches:
         new.curvature = self.curvature.copy()
         new.colors = self.colors.copy()
         new._size = self._size
+        new._grid = self._grid
         return new
 
     def __repr__(self):

@@ -109,7 +109,7 @@ class BezierSurface(Surface):
     def to_bezier_patches(self):
         """A :class:`lab.BezierPatches` holding this one patch."""
         w = None if self.weights is None else self.weights[None]
-        return BezierPatches(self.control_points[None], w)
+        return BezierPatches(self.control_points[None], w, grid_shape=(1, 1))
 
     def __repr__(self):
         kind = "rational " if self.weights is not None else ""
@@ -169,7 +169,7 @@ class BSplineSurface(Surface):
         """One Bézier patch per non-empty knot span, as a :class:`lab.BezierPatches` (practical, section 5)."""
         nets, w, iu, iv = self.bezier_nets()
         flat_w = None if w is None else w.reshape((-1,) + w.shape[2:])
-        return BezierPatches(nets.reshape((-1,) + nets.shape[2:]), flat_w)
+        return BezierPatches(nets.reshape((-1,) + nets.shape[2:]), flat_w, grid_shape=nets.shape[:2])
 
     def __repr__(self):
         kind = "NURBS" if self.weights is not None else "B-spline"
