@@ -68,18 +68,15 @@ def best_time(func, min_time=0.3, max_runs=5):
 
 
 def patch_parameters(n_spans, depth):
-    """Global (u, v) of the corners of every refined patch, in the order BezierPatches.refine produces.
+    """Global (u, v) of the corners of every refined patch, in the grid order BezierPatches keeps.
 
     Returns an array (N, 2, 2, 2): [patch, a, b] -> (u, v); the B-spline's
     knots are 0..7, so span (i, j) covers [i, i+1] x [j, j+1].
     """
-    i, j = np.meshgrid(np.arange(n_spans), np.arange(n_spans), indexing="ij")
-    lo = np.stack([i.ravel(), j.ravel()], axis=-1).astype(float)  # (N, 2) lower corners
-    size = 1.0
-    for _ in range(depth):
-        size /= 2
-        children = [lo + size * np.array([a, b]) for a in (0, 1) for b in (0, 1)]  # child 2a + b
-        lo = np.stack(children, axis=1).reshape(-1, 2)
+    k = n_spans * 2**depth
+    size = 1.0 / 2**depth
+    I, J = np.meshgrid(np.arange(k), np.arange(k), indexing="ij")  # row-major: patch I * k + J
+    lo = size * np.stack([I.ravel(), J.ravel()], axis=-1).astype(float)
     ab = np.array([[[0, 0], [0, 1]], [[1, 0], [1, 1]]], dtype=float)
     return lo[:, None, None, :] + size * ab[None]
 
