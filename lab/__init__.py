@@ -1,11 +1,22 @@
 """curvature-lab: exact curvature of free-form surfaces for teaching (Versuch 6: Krümmungsvisualisierung)."""
 
-from . import bezier, bspline, colormaps, curvature, focal, reflection, surfaces, trimming
+from . import bezier, bspline, colormaps, curvature, focal, geodesics, reflection, surfaces, trimming, widgets
 from .curvature import Curvature, DegeneratePointWarning, PointClass
 from .derivatives import Derivatives
 from .patches import BezierPatch, BezierPatches, ColorMap, CurvatureMode
 from .surface import BezierSurface, BSplineSurface, ParametricSurface, Surface
 from .trimming import BSplineLoop, TrimmedSurface, trimmed
+from .geodesics import (
+    Fan,
+    Isodistance,
+    geodesic,
+    geodesic_between,
+    geodesic_fan,
+    normal_section,
+    normal_section_fan,
+    polar_isodistance,
+)
+from .widgets import CurvatureExplorer, FocalExplorer, ReflectionExplorer
 from .interrogation import (
     FocalSheetWarning,
     focal_sheets,
@@ -51,4 +62,17 @@ __all__ = [
     "polylines",
     "reflection_lines",
     "stripe_mapping",
+    "geodesics",
+    "Fan",
+    "Isodistance",
+    "geodesic",
+    "geodesic_between",
+    "geodesic_fan",
+    "normal_section",
+    "normal_section_fan",
+    "polar_isodistance",
+    "widgets",
+    "CurvatureExplorer",
+    "FocalExplorer",
+    "ReflectionExplorer",
 ]
