@@ -1,0 +1,183 @@
+"""Drive a real JupyterLab in headless Chromium (Playwright), as DESIGN.md describes."""
+
+import contextlib
+import io
+import os
+import secrets
+import shutil
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+PANEL = ".jp-NotebookPanel:not(.lm-mod-hidden)"
+CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                 "--disable-component-update", "--disable-sync", "--no-first-run"]
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@contextlib.contextmanager
+def jupyterlab(root, *, overrides=True, log=None):
+    """Start ``jupyter lab`` on 127.0.0.1 with a token; ``overrides=False`` runs without the project's settings override."""
+    port, token = free_port(), secrets.token_hex(12)
+    # Test-only user settings: render every cell (no windowing), so explorers below the fold are in the page.
+    user = Path(root) / ".user-settings" / "@jupyterlab" / "notebook-extension"
+    user.mkdir(parents=True, exist_ok=True)
+    (user / "tracker.jupyterlab-settings").write_text('{"windowingMode": "none"}')
+    args = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--ip=127.0.0.1", f"--port={port}",
+            f"--ServerApp.token={token}", f"--ServerApp.root_dir={root}", "--allow-root",
+            f"--LabApp.user_settings_dir={Path(root) / '.user-settings'}", "--LabApp.expose_app_in_browser=True"]
+    if not overrides:
+        empty = Path(root) / ".no-settings-overrides"
+        empty.mkdir(exist_ok=True)
+        args.append(f"--LabApp.app_settings_dir={empty}")
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTEST_XDIST_WORKER")}
+    logfile = open(log or Path(root) / "jupyterlab.log", "w")
+    proc = subprocess.Popen(args, stdout=logfile, stderr=subprocess.STDOUT, env=env, cwd=root)
+    try:
+        deadline = time.time() + 90
+        while time.time() < deadline:
+            with contextlib.suppress(OSError):
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            if proc.poll() is not None:
+                raise RuntimeError(f"jupyter lab exited; see {logfile.name}")
+            time.sleep(0.3)
+        else:
+            raise RuntimeError(f"jupyter lab did not start within 90 s; see {logfile.name}")
+        yield f"http://127.0.0.1:{port}", token
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+        logfile.close()
+
+
+def image(png_bytes):
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(png_bytes)).convert("RGB")).astype(int)
+
+
+def coverage(img, skip_top=56):
+    """Fraction of non-white pixels below the trame toolbar (a dead kernel still shows the toolbar icons)."""
+    body = img[skip_top:]
+    return float(np.mean(np.any(np.abs(body - 255) > 20, axis=-1)))
+
+
+class Notebook:
+    """One notebook open in JupyterLab."""
+
+    def __init__(self, page, url, token, name, shots):
+        self.page, self.shots = page, Path(shots)
+        self.shots.mkdir(parents=True, exist_ok=True)
+        page.goto(f"{url}/lab/tree/{name}?reset&token={token}")
+        page.wait_for_selector(f'{PANEL} .jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=180_000)
+
+    def shot(self, name):
+        path = self.shots / f"{name}.png"
+        self.page.screenshot(path=str(path), full_page=False)
+        return path
+
+    def code_cells(self):
+        return self.page.locator(f"{PANEL} .jp-CodeCell")
+
+    def run_all(self, timeout=300):
+        """Run every cell (Run > Run All Cells) and wait until all code cells have run and the kernel is idle."""
+        page = self.page
+        page.locator(f"{PANEL} .jp-Cell").first.locator(".jp-InputPrompt").click()
+        page.evaluate("() => window.jupyterapp.commands.execute('notebook:run-all-cells')")
+        self.wait_idle(timeout)
+
+    def state(self):
+        """Code cells not yet run and the kernel status, read from JupyterLab's notebook model."""
+        return self.page.evaluate(
+            """() => {
+                const nb = window.jupyterapp.shell.currentWidget;
+                const cells = nb.content.model.cells;
+                let pending = 0;
+                for (let i = 0; i < cells.length; i++) {
+                    const c = cells.get(i);
+                    if (c.type === 'code' && c.executionCount === null) pending++;
+                }
+                const kernel = nb.sessionContext.session && nb.sessionContext.session.kernel;
+                return {pending: pending, status: kernel ? kernel.status : 'none'};
+            }"""
+        )
+
+    def wait_idle(self, timeout=300):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            st = self.state()
+            if st["status"] == "dead":
+                raise RuntimeError(f"the kernel is {st['status']}; screenshot {self.shot('kernel-' + st['status'])}")
+            if st["pending"] == 0 and st["status"] == "idle":
+                return st
+            time.sleep(0.5)
+        raise TimeoutError(f"cells still running after {timeout} s ({self.state()}); screenshot {self.shot('timeout')}")
+
+    def explorers(self):
+        return self.page.locator(f"{PANEL} .lab-explorer")
+
+    def view_image(self, explorer):
+        frame = explorer.locator("iframe.pyvista")
+        frame.scroll_into_view_if_needed()
+        return image(frame.screenshot())
+
+    def wait_for_picture(self, explorer, timeout=60, min_coverage=0.03):
+        """Wait until the explorer's 3D view shows something below its toolbar; return the picture."""
+        deadline = time.time() + timeout
+        img = None
+        while time.time() < deadline:
+            img = self.view_image(explorer)
+            if coverage(img) > min_coverage:
+                return img
+            time.sleep(1)
+        return img
+
+    def wait_for_change(self, explorer, before, timeout=60, threshold=1.0):
+        deadline = time.time() + timeout
+        img = before
+        while time.time() < deadline:
+            time.sleep(1)
+            img = self.view_image(explorer)
+            if img.shape == before.shape and np.mean(np.abs(img - before)) > threshold:
+                return img, True
+        return img, False
+
+    def run_cell(self, source, expect, timeout=120):
+        """Append a cell with ``source``, run it and wait for ``expect`` in its output; return the output text."""
+        page = self.page
+        page.evaluate(
+            """(src) => {
+                const nb = window.jupyterapp.shell.currentWidget;
+                nb.content.activeCellIndex = nb.content.widgets.length - 1;
+                return window.jupyterapp.commands.execute('notebook:insert-cell-below').then(() => {
+                    nb.content.activeCell.model.sharedModel.setSource(src);
+                    return window.jupyterapp.commands.execute('notebook:run-cell');
+                });
+            }""",
+            source,
+        )
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            out = page.locator(f"{PANEL} .jp-OutputArea-output").all_inner_texts()
+            hits = [o for o in out if expect in o]
+            if hits:
+                return hits[-1]
+            st = self.state()
+            if st["status"] == "dead":
+                raise RuntimeError(f"the kernel is {st['status']}; screenshot {self.shot('kernel-' + st['status'])}")
+            time.sleep(0.5)
+        raise TimeoutError(f"no output containing {expect!r}; screenshot {self.shot('no-output')}")
