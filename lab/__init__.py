@@ -16,7 +16,7 @@ from .geodesics import (
     normal_section_fan,
     polar_isodistance,
 )
-from .widgets import CurvatureExplorer, FocalExplorer, ReflectionExplorer
+from .widgets import CurvatureExplorer, FocalExplorer, GeodesicExplorer, ReflectionExplorer
 from .interrogation import (
     FocalSheetWarning,
     focal_sheets,
@@ -74,5 +74,6 @@ __all__ = [
     "widgets",
     "CurvatureExplorer",
     "FocalExplorer",
+    "GeodesicExplorer",
     "ReflectionExplorer",
 ]

@@ -185,6 +185,8 @@ class Fan:
         The requested length of every path.
     kind : str
     surface : Surface
+    full_circle : bool
+        True for angles 2πk/n around the whole circle; False for a partial fan.
     """
 
     paths: list
@@ -193,6 +195,7 @@ class Fan:
     length: float
     kind: str
     surface: Surface = field(repr=False)
+    full_circle: bool = True
 
     def __len__(self):
         return len(self.paths)
@@ -1086,9 +1089,24 @@ def normal_section(surface, uv, angle, length, *, rtol=RTOL, atol=ATOL, method="
     return _single(surface, uv, angle, length, NORMAL_SECTION, rtol, atol, method, n_samples)
 
 
-def _fan(surface, uv, n_angles, length, kind, rtol, atol, n_samples, vectorized):
-    n_angles = _v.as_positive_int(n_angles, "n_angles", minimum=1)
-    angles = 2 * np.pi * np.arange(n_angles) / n_angles
+def _fan_angles(n_angles, angles):
+    """The start angles of a fan: 2πk/n, or the given increasing angles within one turn."""
+    if angles is None:
+        n_angles = _v.as_positive_int(n_angles, "n_angles", minimum=1)
+        return 2 * np.pi * np.arange(n_angles) / n_angles, True
+    a = np.asarray(angles, dtype=float)
+    if a.ndim != 1 or a.size < 1 or not np.all(np.isfinite(a)):
+        raise ValueError(f"angles must be a non-empty 1-D array of finite numbers (radians); got {angles!r}")
+    if n_angles is not None and n_angles != a.size:
+        raise ValueError(f"n_angles ({n_angles}) must equal the number of angles given ({a.size}), or be None")
+    if np.any(np.diff(a) <= 0) or a[-1] - a[0] >= 2 * np.pi:
+        raise ValueError("angles must increase strictly and span less than one turn (2π)")
+    return a, False
+
+
+def _fan(surface, uv, n_angles, length, kind, rtol, atol, n_samples, vectorized, angles=None):
+    angles, full_circle = _fan_angles(n_angles, angles)
+    n_angles = len(angles)
     problem, origin, L, rtol, atol, n_samples, y0, D, cell0 = _prepare(
         surface, uv, angles, length, kind, rtol, atol, n_samples)
     if vectorized:
@@ -1101,10 +1119,10 @@ def _fan(surface, uv, n_angles, length, kind, rtol, atol, n_samples, vectorized)
             ends.append(end)
             stops.append(stop)
     paths = _make_paths(problem, states, ends, stops, angles, origin, D, n_samples)
-    return Fan(paths, angles, origin, L, kind, problem.surface)
+    return Fan(paths, angles, origin, L, kind, problem.surface, full_circle)
 
 
-def geodesic_fan(surface, uv, n_angles, length, *, rtol=RTOL, atol=ATOL, n_samples=101, vectorized=True):
+def geodesic_fan(surface, uv, n_angles, length, *, angles=None, rtol=RTOL, atol=ATOL, n_samples=101, vectorized=True):
     """Geodesics from ``x(u0, v0)`` at the angles α_k = 2πk/n, k = 0 … n-1 (seeds/003 sections 3.2 and 4).
 
     All paths are integrated together: one vectorised Dormand–Prince 8(5,3)
@@ -1118,8 +1136,11 @@ def geodesic_fan(surface, uv, n_angles, length, *, rtol=RTOL, atol=ATOL, n_sampl
     ----------
     surface, uv, length, rtol, atol, n_samples
         As :func:`geodesic`.
-    n_angles : int
-        Number of paths, >= 1.
+    n_angles : int or None
+        Number of paths, >= 1, at the angles 2πk/n.
+    angles : (n,) array_like, optional
+        Start angles in radians instead (increasing, spanning less than a
+        turn): a partial fan; ``n_angles`` is then None or ``len(angles)``.
     vectorized : bool
         False integrates each path with its own :func:`scipy.integrate.solve_ivp`
         call instead (the reference, used by the benchmark).
@@ -1128,15 +1149,16 @@ def geodesic_fan(surface, uv, n_angles, length, *, rtol=RTOL, atol=ATOL, n_sampl
     -------
     Fan
     """
-    return _fan(surface, uv, n_angles, length, GEODESIC, rtol, atol, n_samples, vectorized)
+    return _fan(surface, uv, n_angles, length, GEODESIC, rtol, atol, n_samples, vectorized, angles)
 
 
-def normal_section_fan(surface, uv, n_angles, length, *, rtol=RTOL, atol=ATOL, n_samples=101, vectorized=True):
+def normal_section_fan(surface, uv, n_angles, length, *, angles=None, rtol=RTOL, atol=ATOL, n_samples=101,
+                       vectorized=True):
     """Normal sections from ``x(u0, v0)`` at the angles α_k = 2πk/n (seeds/003 section 3.1, figure 1).
 
     Integrated together as in :func:`geodesic_fan`; parameters as there.
     """
-    return _fan(surface, uv, n_angles, length, NORMAL_SECTION, rtol, atol, n_samples, vectorized)
+    return _fan(surface, uv, n_angles, length, NORMAL_SECTION, rtol, atol, n_samples, vectorized, angles)
 
 
 # --------------------------------------------------------------------------- polar isodistance curves
@@ -1184,6 +1206,11 @@ def polar_isodistance(fan, distances, *, samples_per_angle=8):
     """
     paths = _as_paths(fan)
     surface = paths[0].surface
+    if isinstance(fan, Fan):
+        full_circle = fan.full_circle
+    else:  # a list of paths: cyclic when its angles are equally spaced around the circle
+        a = np.sort(np.mod([p.angle for p in paths], 2 * np.pi))
+        full_circle = len(a) >= 2 and np.allclose(np.diff(np.append(a, a[0] + 2 * np.pi)), 2 * np.pi / len(a))
     dist = np.atleast_1d(np.asarray(distances, dtype=float))
     if dist.ndim != 1 or not np.all(np.isfinite(dist)) or np.any(dist <= 0):
         raise ValueError(f"distances must be positive finite numbers; got {distances}")
@@ -1198,16 +1225,16 @@ def polar_isodistance(fan, distances, *, samples_per_angle=8):
         for k in np.flatnonzero(reached):
             nodes[k] = paths[k]._state(np.array([min(sL, paths[k].length)]))[0, :2]
         pieces = []
-        if reached.all() and n >= 3:
+        if reached.all() and n >= 3 and full_circle:
             a = np.append(alpha, alpha[0] + 2 * np.pi)
             spline = CubicSpline(a, np.vstack([nodes, nodes[:1]]), bc_type="periodic")
             fine = np.linspace(a[0], a[-1], n * per + 1)
             pieces.append(_piece(surface, wrap, sL, fine, spline(fine), closed=True))
-        elif reached.all():
+        elif reached.all() and full_circle:
             a = np.append(alpha, alpha[0] + 2 * np.pi)
             pieces.append(_linear_piece(surface, wrap, sL, a, np.vstack([nodes, nodes[:1]]), per, closed=True))
         else:
-            for run in _runs(reached):
+            for run in (_runs(reached) if full_circle else _linear_runs(reached)):
                 a = alpha[run] + 2 * np.pi * np.cumsum(np.r_[0, np.diff(alpha[run]) < 0])  # increasing across α = 0
                 pts = nodes[run]
                 if len(run) >= 4:
@@ -1218,6 +1245,20 @@ def polar_isodistance(fan, distances, *, samples_per_angle=8):
                     pieces.append(_linear_piece(surface, wrap, sL, a, pts, per, closed=False))
         out.append(pieces)
     return out
+
+
+def _linear_runs(mask):
+    """Maximal runs of consecutive True entries of a (non-cyclic) boolean mask, as index arrays."""
+    runs, current = [], []
+    for k, m in enumerate(mask):
+        if m:
+            current.append(k)
+        elif current:
+            runs.append(np.array(current))
+            current = []
+    if current:
+        runs.append(np.array(current))
+    return runs
 
 
 def _runs(mask):

@@ -77,7 +77,10 @@ class GradeResult:
 
     @property
     def passed(self):
-        return not self.error and bool(self.tasks) and all(t["passed"] for t in self.tasks)
+        """All tasks passed; a notebook without tasks passes when all its cells ran without errors."""
+        if self.error:
+            return False
+        return all(t["passed"] for t in self.tasks) if self.tasks else not self.cell_errors
 
     def to_dict(self):
         return {
@@ -105,8 +108,8 @@ class GradeResult:
 
 def _tasks_of(nb, path):
     tasks = nb.metadata.get("lab", {}).get("tasks")
-    if not tasks:
-        raise ValueError(f"{path} declares no tasks (metadata 'lab' -> 'tasks'); is it a curvature-lab notebook?")
+    if tasks is None:
+        raise ValueError(f"{path} has no task list (metadata 'lab' -> 'tasks'); is it a curvature-lab notebook?")
     return tasks
 
 

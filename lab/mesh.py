@@ -228,7 +228,7 @@ def patches_mesh(patches, resolution=1):
     return mesh
 
 
-def surface_mesh(surface, nu=64, nv=64, curvature_mode=None, color_map=None):
+def surface_mesh(surface, nu=64, nv=64, curvature_mode=None, color_map=None, **map_options):
     """A welded mesh of any :class:`lab.Surface` on an ``nu x nv`` parameter grid, with exact curvature.
 
     Seams of closed surfaces (torus, sphere poles) are welded.  Point data as
@@ -242,11 +242,11 @@ def surface_mesh(surface, nu=64, nv=64, curvature_mode=None, color_map=None):
     data = _curvature_data(D, curv)
     mesh = grid_mesh(D.b[None], {k: v[None] for k, v in data.items()}, first_data={"uv": np.stack([U, V], -1)[None]})
     if curvature_mode is not None and color_map is not None:
-        color_curvature(mesh, curvature_mode, color_map)
+        color_curvature(mesh, curvature_mode, color_map, **map_options)
     return mesh
 
 
-def color_curvature(mesh, curvature_mode, color_map):
+def color_curvature(mesh, curvature_mode, color_map, **map_options):
     """Add ``values`` and ``RGB`` point data to a mesh with ``K, H, k1, k2`` point data (in place)."""
     from .curvature import Curvature
 
@@ -254,7 +254,7 @@ def color_curvature(mesh, curvature_mode, color_map):
     values = curvature_values(curv, curvature_mode)
     size = float(np.linalg.norm(np.ptp(mesh.points, axis=0)))
     name = color_map.value if hasattr(color_map, "value") else color_map
-    rgb = colors_for(values, name, tol=zero_tolerance(CurvatureMode(curvature_mode), size))
+    rgb = colors_for(values, name, tol=zero_tolerance(CurvatureMode(curvature_mode), size), **map_options)
     mesh.point_data["values"] = values
     mesh.point_data["RGB"] = np.round(255 * rgb).astype(np.uint8)
     return mesh

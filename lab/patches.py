@@ -262,7 +262,7 @@ class BezierPatches:
         self._reset()
         return self
 
-    def visualize_curvature(self, curvature_mode, color_map):
+    def visualize_curvature(self, curvature_mode, color_map, **options):
         """Compute the curvature at every corner and colour it (the practical's task, reference solution).
 
         For each patch: derivatives at the corners from the forward-difference
@@ -279,11 +279,13 @@ class BezierPatches:
             ``COLOR_MAP_LINEAR`` (h∘f2), ``COLOR_MAP_CUT`` (h∘f1),
             ``COLOR_MAP_CLASSIFICATION`` (h∘f3), or any name in
             :data:`lab.colormaps.COLOR_MAPS`.
+        **options
+            Passed to the colour map, e.g. ``vmin``, ``vmax`` for :func:`lab.colormaps.dill`.
         """
         values = curvature_values(self.corner_curvature(), curvature_mode)
         self.curvature[...] = values
         self.colors[...] = colors_for(
-            values, self._color_map_name(color_map), tol=zero_tolerance(curvature_mode, self.size)
+            values, self._color_map_name(color_map), tol=zero_tolerance(curvature_mode, self.size), **options
         )
 
     # -- vectorised helpers -------------------------------------------------------

@@ -66,7 +66,7 @@ def export_html(mesh, path, *, show_edges=False):
     plotter.close()
 
 
-def _as_mesh(obj, curvature, color_map, resolution, n):
+def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
     """A curvature mesh for patches, a surface or a mesh (see :func:`show`)."""
     from . import mesh as _mesh
     from .patches import BezierPatches
@@ -76,15 +76,15 @@ def _as_mesh(obj, curvature, color_map, resolution, n):
     if isinstance(obj, BezierPatches):
         if curvature is not None and color_map is not None:
             obj = obj.copy()
-            BezierPatches.visualize_curvature(obj, curvature, color_map)
+            BezierPatches.visualize_curvature(obj, curvature, color_map, **(map_options or {}))
         return _mesh.patches_mesh(obj, resolution=resolution)
     if hasattr(obj, "derivatives") and hasattr(obj, "domain"):
-        return _mesh.surface_mesh(obj, n, n, curvature, color_map)
+        return _mesh.surface_mesh(obj, n, n, curvature, color_map, **(map_options or {}))
     raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
 
 
 def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=False, net=False, title=None,
-         resolution=1, n=64, direction=VIEW_DIRECTION):
+         resolution=1, n=64, direction=VIEW_DIRECTION, map_options=None):
     """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
 
     Parameters
@@ -98,14 +98,16 @@ def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=F
         Draw mesh edges (for patches at resolution 1: the patch borders).
     net : bool
         Draw the control nets of patches.
+    map_options : dict, optional
+        Options of the colour map, e.g. ``{"vmin": -1, "vmax": 0.5}`` for Dill's bands.
     """
     from IPython.display import Image
 
     configure_offscreen()
-    mesh = _as_mesh(obj, curvature, color_map, resolution, n)
+    mesh = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     plotter.set_background("white")
-    if "RGB" in mesh.point_data:
+    if "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
         plot_mesh(mesh, plotter, show_edges=edges)
     else:
         plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True)

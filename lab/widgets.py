@@ -42,7 +42,8 @@ from .curvature import DegeneratePointWarning
 from .patches import BezierPatches, CurvatureMode, colors_for
 from .render import VIEW_DIRECTION, configure_offscreen, set_camera
 
-__all__ = ["Explorer", "CurvatureExplorer", "FocalExplorer", "ReflectionExplorer", "live_view_possible",
+__all__ = ["Explorer", "CurvatureExplorer", "FocalExplorer", "ReflectionExplorer", "GeodesicExplorer",
+           "live_view_possible", "in_jupyter_session",
            "callback_threads"]
 
 _INSTANCES = weakref.WeakSet()
@@ -53,17 +54,28 @@ def callback_threads():
     return sorted({name for e in list(_INSTANCES) for name in e.callback_threads})
 
 
-def live_view_possible():
-    """Whether a live trame view can be shown: not when grading, not when ``LAB_STATIC=1``."""
-    if os.environ.get("LAB_STATIC") == "1" or os.environ.get("LAB_GRADING") == "1":
-        return False
+def in_jupyter_session():
+    """Whether this kernel belongs to a Jupyter server session (JupyterLab, Notebook): a frontend that shows widgets.
+
+    jupyter_server starts session kernels with ``JPY_SESSION_NAME`` set; kernels
+    started by nbconvert / nbclient (conversion, grading) have no frontend.
+    """
+    if os.environ.get("LAB_INTERACTIVE") == "1":
+        return True
     try:
         from IPython import get_ipython
 
         shell = get_ipython()
     except ImportError:  # pragma: no cover
         return False
-    return shell is not None and type(shell).__name__ == "ZMQInteractiveShell"
+    return shell is not None and type(shell).__name__ == "ZMQInteractiveShell" and "JPY_SESSION_NAME" in os.environ
+
+
+def live_view_possible():
+    """Whether a live trame view can be shown: in a Jupyter session, unless ``LAB_STATIC=1`` or grading."""
+    if os.environ.get("LAB_STATIC") == "1" or os.environ.get("LAB_GRADING") == "1":
+        return False
+    return in_jupyter_session()
 
 
 def _main_loop():
@@ -143,6 +155,8 @@ class Explorer:
             self._say(" ".join(notes[:2]), "note" if notes else "ok")
         except NotImplementedError as exc:
             self._say(f"not implemented yet: {exc}", "note")
+        except _Note as note:
+            self._say(str(note), "note")
         except Exception as exc:  # shown to the user, never a traceback in the notebook
             self._say(f"{type(exc).__name__}: {exc}", "error")
             self.last_error = traceback.format_exc()
@@ -159,6 +173,10 @@ class Explorer:
 
     def _controls(self):  # pragma: no cover - abstract
         raise NotImplementedError
+
+    def _extra_views(self):
+        """Widgets shown below the 3D view (none by default)."""
+        return []
 
     def refresh(self):
         """Render the current scene into the view (main thread only)."""
@@ -208,16 +226,21 @@ class Explorer:
         if self._widget is None:
             view = self._make_view()
             left = W.VBox(self._controls() + [self.status], layout=W.Layout(width="320px", min_width="280px"))
-            self._widget = W.HBox([left, view], layout=W.Layout(align_items="flex-start"))
+            views = W.VBox([view] + self._extra_views())
+            self._widget = W.HBox([left, views], layout=W.Layout(align_items="flex-start"))
             self._widget.add_class("lab-explorer")
         return self._widget
 
     def _repr_mimebundle_(self, include=None, exclude=None):
-        bundle = self.widget._repr_mimebundle_(include=include, exclude=exclude)
-        # what survives nbconvert and viewers without a widget manager
-        png = base64.b64encode(self.png()).decode()
-        bundle["image/png"] = png
-        bundle["text/plain"] = f"{self.title} (run the notebook in JupyterLab for the interactive view)"
+        # The picture survives nbconvert and viewers without a widget manager.  Without a frontend
+        # (nbconvert, nbclient, grading) the explorer shows only that picture: a widget view would make
+        # nbconvert's HTML depend on widget JavaScript from the network.
+        bundle = {
+            "image/png": base64.b64encode(self.png()).decode(),
+            "text/plain": f"{self.title} (open the notebook in JupyterLab for the interactive view)",
+        }
+        if in_jupyter_session():
+            bundle.update(self.widget._repr_mimebundle_(include=include, exclude=exclude))
         return bundle
 
     def close(self):
@@ -286,9 +309,18 @@ class CurvatureExplorer(Explorer):
 
     def __init__(self, surface, patches_class=None, *, depth=2, max_depth=6, window_size=(640, 480), live=None):
         super().__init__(window_size=window_size, live=live)
-        base = surface if isinstance(surface, BezierPatches) else surface.to_bezier_patches()
+        if isinstance(surface, BezierPatches):
+            base = surface
+        elif hasattr(surface, "to_bezier_patches"):
+            base = surface.to_bezier_patches()
+        elif hasattr(surface, "derivatives") and hasattr(surface, "domain"):
+            base = None  # an analytic surface: sampled on a grid that doubles with every depth step
+        else:
+            raise TypeError(f"expected a lab surface or lab.BezierPatches; got {type(surface).__name__}")
         if patches_class is not None and not (isinstance(patches_class, type) and issubclass(patches_class, BezierPatches)):
             raise TypeError(f"patches_class must be a subclass of lab.BezierPatches; got {patches_class!r}")
+        if patches_class is not None and base is None:
+            raise TypeError(f"{type(surface).__name__} is not made of Bézier patches: no visualize_curvature to show")
         self.student = patches_class
         self._base = base
         self._meshes = {}
@@ -340,8 +372,12 @@ class CurvatureExplorer(Explorer):
             return self._meshes[depth]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DegeneratePointWarning)
-            patches = self._patches(depth)
-            mesh = _mesh.patches_mesh(patches)
+            if self._base is None:
+                n = 8 * 2**depth + 1
+                patches, mesh = None, _mesh.surface_mesh(self.source, n, n)
+            else:
+                patches = self._patches(depth)
+                mesh = _mesh.patches_mesh(patches)
         mesh.point_data["display"] = np.zeros(mesh.n_points)
         if self.student is None:
             self._meshes[depth] = mesh
@@ -496,7 +532,8 @@ class CurvatureExplorer(Explorer):
         self.scalar_bar.SetTitle(label)
         self.scalar_bar.SetVisibility(name != "classification")
         n = int(np.count_nonzero(self.mesh.point_data["degenerate"]))
-        self.info.value = (f"<small>{self.mesh.n_cells} patches at depth {self.depth.value}; range "
+        what = "patches" if self._base is not None else "grid cells"
+        self.info.value = (f"<small>{self.mesh.n_cells} {what} at depth {self.depth.value}; range "
                            f"{np.nanmin(v):.4g} … {np.nanmax(v):.4g}" + (f"; {n} degenerate points" if n else "") + "</small>")
 
     def _legend_for(self, name, measure):
@@ -532,7 +569,7 @@ class FocalExplorer(Explorer):
     title = "focal surface explorer"
     FUNCTIONS = {"H  mean": "mean", "K  Gaussian": "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1", "κ2": "k2"}
 
-    def __init__(self, surface, *, scale=0.5, resolution=48, window_size=(640, 480), live=None):
+    def __init__(self, surface, *, scale=None, resolution=48, window_size=(640, 480), live=None):
         from .interrogation import focal_surface
 
         super().__init__(window_size=window_size, live=live)
@@ -540,8 +577,15 @@ class FocalExplorer(Explorer):
         self.source = surface
         self.resolution = resolution
         self.function = _dropdown(list(self.FUNCTIONS.items()), "mean", "function")
-        self.scale = W.FloatSlider(value=scale, min=-5.0, max=5.0, step=0.01, description="scale a",
-                                   style={"description_width": "90px"}, layout=W.Layout(width="300px"))
+        if scale is None:  # the largest displacement a tenth of the model's size
+            probe = focal_surface(surface, scale=1.0, function="mean", resolution=resolution)
+            size = float(np.linalg.norm(np.ptp(probe.point_data["X"], axis=0)))
+            fmax = float(np.max(np.abs(probe.point_data["f"]))) or 1.0
+            scale = float(f"{0.1 * size / fmax:.2g}")
+        limit = 10 * abs(scale) or 1.0
+        self.scale = W.FloatSlider(value=scale, min=-limit, max=limit, step=limit / 500, description="scale a",
+                                   readout_format=".3g", style={"description_width": "90px"},
+                                   layout=W.Layout(width="300px"))
         self.show_surface = W.Checkbox(value=True, description="surface", indent=False)
         self._build_scene()
         self.function.observe(self._callback(self.update_focal), "value")
@@ -640,3 +684,160 @@ class ReflectionExplorer(Explorer):
             self.overlay_actor = self.plotter.add_mesh(new, color="black", line_width=2, render_lines_as_tubes=False)
         self.overlay = new
         self.refresh()
+
+
+class GeodesicExplorer(Explorer):
+    """Fans of geodesics or normal sections from a point and their polar isodistance curves (seeds/003).
+
+    The paths and the isodistance curves are drawn on the surface and, below
+    it, in the parameter domain (like figures 2 and 3 of the paper).
+
+    Parameters
+    ----------
+    surface : lab surface
+    start : (float, float), optional
+        Start point (u0, v0); default: the domain's centre.
+    n_angles : int
+    step : float, optional
+        Isodistance step s_L; default: a tenth of the surface's size.
+    count : int
+        Number of isodistance curves; the paths have length ``step * count``.
+    """
+
+    title = "geodesic explorer"
+    KINDS = {"geodesics": "geodesic", "normal sections": "normal-section"}
+
+    def __init__(self, surface, start=None, *, n_angles=40, step=None, count=8, window_size=(640, 420), live=None):
+        super().__init__(window_size=window_size, live=live)
+        self.source = surface
+        (u0, u1), (v0, v1) = surface.domain
+        if start is None:
+            start = (0.5 * (u0 + u1), 0.5 * (v0 + v1))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DegeneratePointWarning)
+            self.surface_mesh = _mesh.surface_mesh(surface, 64, 64)
+        size = float(np.linalg.norm(np.ptp(self.surface_mesh.points, axis=0)))
+        if step is None:
+            step = float(f"{size / (5 * count):.2g}")
+        style = {"description_width": "90px"}
+        lay = W.Layout(width="300px")
+        self.kind = _dropdown(list(self.KINDS.items()), "geodesic", "paths")
+        self.u0 = W.FloatSlider(value=start[0], min=u0, max=u1, step=(u1 - u0) / 200, description="start u0",
+                                style=style, layout=lay, continuous_update=False)
+        self.v0 = W.FloatSlider(value=start[1], min=v0, max=v1, step=(v1 - v0) / 200, description="start v0",
+                                style=style, layout=lay, continuous_update=False)
+        self.n_angles = W.IntSlider(value=n_angles, min=3, max=160, description="angles", style=style, layout=lay,
+                                    continuous_update=False)
+        self.angle_range = W.FloatRangeSlider(value=(0.0, 360.0), min=0.0, max=360.0, step=1.0, description="α range °",
+                                              style=style, layout=lay, continuous_update=False)
+        self.step = W.BoundedFloatText(value=step, min=size * 1e-4, max=size * 10, step=step / 10,
+                                       description="step s_L", style=style, layout=lay)
+        self.count = W.IntSlider(value=count, min=1, max=40, description="curves", style=style, layout=lay,
+                                 continuous_update=False)
+        self.domain_view = W.Image(format="png", layout=W.Layout(width=f"{window_size[0]}px"))
+        self._build_scene()
+        for w in (self.kind, self.u0, self.v0, self.n_angles, self.angle_range, self.step, self.count):
+            w.observe(self._callback(self.update_fan), "value")
+
+    def _controls(self):
+        return [W.HTML(f"<b>{self.title}</b>"), self.kind, self.u0, self.v0, self.n_angles, self.angle_range,
+                self.step, self.count]
+
+    def _extra_views(self):
+        return [self.domain_view]
+
+    def _build_scene(self):
+        self.plotter.add_mesh(self.surface_mesh, color="#e8e8e8", smooth_shading=True)
+        self.paths_mesh = pv.PolyData()
+        self.iso_mesh = pv.PolyData()
+        self.start_mesh = pv.PolyData(np.zeros((1, 3)))
+        self.paths_actor = None
+        self.iso_actor = None
+        self.plotter.add_mesh(self.start_mesh, color="black", point_size=10, render_points_as_spheres=True)
+        set_camera(self.plotter, self.surface_mesh, VIEW_DIRECTION)
+        self._run(self.update_fan)
+
+    def _angles(self):
+        lo, hi = self.angle_range.value
+        n = self.n_angles.value
+        if hi - lo >= 360.0 - 1e-9:
+            return None, True
+        if hi <= lo:
+            raise ValueError("the angle range is empty: move its two ends apart")
+        return np.radians(np.linspace(lo, hi, n)), False
+
+    def update_fan(self):
+        """Recompute the fan and the isodistance curves and update the scene in place."""
+        from .geodesics import geodesic_fan, normal_section_fan, polar_isodistance
+
+        angles, full = self._angles()
+        n = self.n_angles.value
+        length = self.step.value * self.count.value
+        self._say(f"computing {n} {self.kind.value.replace('-', ' ')}s of length {length:g} …", "busy")
+        fan_fn = geodesic_fan if self.kind.value == "geodesic" else normal_section_fan
+        uv0 = (self.u0.value, self.v0.value)
+        fan = fan_fn(self.source, uv0, None if angles is not None else n, length, angles=angles, n_samples=61)
+        distances = self.step.value * np.arange(1, self.count.value + 1)
+        iso = polar_isodistance(fan, distances)
+        self.fan, self.isodistance = fan, iso
+        self.start_mesh.points = self.source.evaluate(*uv0)[None]
+        self.paths_mesh.copy_from(_polylines([p.points for p in fan]), deep=True)
+        curves = [piece.points for pieces in iso for piece in pieces if len(piece.points) > 1]
+        self.iso_mesh.copy_from(_polylines(curves), deep=True)
+        if self.paths_actor is None and self.paths_mesh.n_points:
+            self.paths_actor = self.plotter.add_mesh(self.paths_mesh, color="#1f3b73", line_width=1.5)
+        if self.iso_actor is None and self.iso_mesh.n_points:
+            self.iso_actor = self.plotter.add_mesh(self.iso_mesh, color="#d62728", line_width=2.5)
+        self.domain_view.value = self._domain_png(fan, iso)
+        reached = [d for d, pieces in zip(distances, iso) if pieces]
+        stopped = int(fan.hit_boundary.sum())
+        note = f"{stopped} of {len(fan)} paths reach the boundary before length {length:g}" if stopped else ""
+        if len(reached) < len(distances):
+            note += ("; " if note else "") + f"no path reaches s_L ≥ {distances[len(reached)]:g}"
+        self.refresh()
+        if note:
+            self._say(note, "note")
+            raise _Note(note)
+
+    def _domain_png(self, fan, iso):
+        import matplotlib
+
+        matplotlib.use("Agg", force=False)
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(self.window_size[0] / 100, 3.2), dpi=100)
+        ax = fig.add_subplot()
+        for p in fan:
+            ax.plot(p.uv[:, 0], p.uv[:, 1], color="#1f3b73", lw=0.7)
+        for pieces in iso:
+            for piece in pieces:
+                ax.plot(piece.uv[:, 0], piece.uv[:, 1], color="#d62728", lw=1.4)
+        ax.plot(*fan.origin, "ko", ms=4)
+        (u0, u1), (v0, v1) = self.source.domain
+        ax.set_xlim(u0, u1)
+        ax.set_ylim(v0, v1)
+        ax.set_xlabel("u")
+        ax.set_ylabel("v")
+        ax.set_title("parameter domain", fontsize=9)
+        ax.set_aspect("auto")
+        fig.tight_layout()
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png")
+        return buf.getvalue()
+
+
+class _Note(Exception):
+    """A remark for the status line that is not an error (raised after the scene is updated)."""
+
+
+def _polylines(curves):
+    """One PolyData holding the polylines ``curves`` (list of (k, 3) arrays)."""
+    curves = [np.asarray(c, dtype=float) for c in curves if len(c) > 1]
+    if not curves:
+        return pv.PolyData()
+    points = np.vstack(curves)
+    lines, start = [], 0
+    for c in curves:
+        lines.append(np.r_[len(c), np.arange(start, start + len(c))])
+        start += len(c)
+    return pv.PolyData(points, lines=np.concatenate(lines))

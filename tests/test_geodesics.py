@@ -469,3 +469,26 @@ def test_degenerate_start_and_bad_distances_are_rejected():
     other = geodesic(surfaces.plane(), (0.2, 0.5), 0.0, 0.2)
     with pytest.raises(ValueError, match="must start at the same point of the same surface"):
         polar_isodistance(list(fan) + [other], 0.1)
+
+
+def test_partial_fan_gives_open_isodistance_curves():
+    """A fan over part of the circle (as the explorer's angle range) never closes its isodistance curves."""
+    plane = lab.surfaces.plane(10.0)
+    angles = np.radians(np.linspace(0.0, 90.0, 7))
+    fan = lab.geodesic_fan(plane, (0.5, 0.5), None, 2.0, angles=angles)
+    assert not fan.full_circle and len(fan) == 7
+    np.testing.assert_allclose([p.angle for p in fan], angles)
+    (pieces,) = lab.polar_isodistance(fan, [1.5])
+    assert len(pieces) == 1 and not pieces[0].closed
+    # on a plane the points at distance 1.5 lie on a circle around the start
+    np.testing.assert_allclose(np.linalg.norm(pieces[0].points[::8] - plane.evaluate(0.5, 0.5), axis=1), 1.5, rtol=1e-9)
+    full = lab.geodesic_fan(plane, (0.5, 0.5), 8, 2.0)
+    assert full.full_circle and lab.polar_isodistance(full, [1.5])[0][0].closed
+
+
+def test_partial_fan_errors():
+    plane = lab.surfaces.plane(10.0)
+    with pytest.raises(ValueError, match="angles must increase strictly and span less than one turn"):
+        lab.geodesic_fan(plane, (0.5, 0.5), None, 1.0, angles=[0.0, 7.0])
+    with pytest.raises(ValueError, match=r"n_angles \(3\) must equal the number of angles given \(2\)"):
+        lab.geodesic_fan(plane, (0.5, 0.5), 3, 1.0, angles=[0.0, 1.0])
