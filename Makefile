@@ -5,13 +5,14 @@ PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 STAMP  := $(VENV)/.installed
 APT_PACKAGES := libegl1 libgl1-mesa-dri
+TEST_APT_PACKAGES := chromium
 PORT ?= 8888
 
 .PHONY: lab test setup system-deps venv clean benchmarks exercises
 
-# Debian packages that offscreen rendering (EGL) needs; installed only when missing.
+# Debian packages that offscreen rendering (EGL) needs (and Chromium for the browser tests); installed only when missing.
 system-deps:
-	@missing=""; for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	@missing=""; for p in $(APT_PACKAGES) $(EXTRA_APT); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
 	if [ -n "$$missing" ]; then \
 	  echo "installing system packages:$$missing"; \
 	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO="sudo"; \
@@ -34,6 +35,7 @@ setup: system-deps $(STAMP)
 lab: setup
 	$(PY) -m jupyter lab --notebook-dir=exercises --port=$(PORT) $(if $(DISPLAY),,--no-browser)
 
+test: EXTRA_APT = $(TEST_APT_PACKAGES)
 test: setup
 	$(PY) -m pytest -n 2
 

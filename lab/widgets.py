@@ -338,6 +338,8 @@ class CurvatureExplorer(Explorer):
         self.range = W.FloatRangeSlider(value=(-1.0, 1.0), min=-10.0, max=10.0, step=0.001, description="min / max",
                                         readout_format=".3g", disabled=True, style={"description_width": "90px"},
                                         layout=W.Layout(width="300px"))
+        # the control the browser tests change (for the practical's maps on K, linear and cut look alike)
+        (self.measure if patches_class is not None else self.color_map).add_class("lab-primary-control")
         self.show_net = W.Checkbox(value=False, description="control net", indent=False)
         self.show_borders = W.Checkbox(value=False, description="patch borders", indent=False)
         self.info = W.HTML()
@@ -586,6 +588,7 @@ class FocalExplorer(Explorer):
         self.scale = W.FloatSlider(value=scale, min=-limit, max=limit, step=limit / 500, description="scale a",
                                    readout_format=".3g", style={"description_width": "90px"},
                                    layout=W.Layout(width="300px"))
+        self.function.add_class("lab-primary-control")
         self.show_surface = W.Checkbox(value=True, description="surface", indent=False)
         self._build_scene()
         self.function.observe(self._callback(self.update_focal), "value")
@@ -629,6 +632,7 @@ class ReflectionExplorer(Explorer):
         self.source = surface
         self.resolution = resolution
         self.kind = _dropdown(list(self.KINDS.items()), "stripes", "show")
+        self.kind.add_class("lab-primary-control")
         self.count = W.IntSlider(value=8, min=1, max=40, description="stripes / lines", style={"description_width": "90px"},
                                  layout=W.Layout(width="300px"))
         self.azimuth = W.FloatSlider(value=0.0, min=0.0, max=180.0, step=1.0, description="direction °",
@@ -726,6 +730,7 @@ class GeodesicExplorer(Explorer):
                                 style=style, layout=lay, continuous_update=False)
         self.v0 = W.FloatSlider(value=start[1], min=v0, max=v1, step=(v1 - v0) / 200, description="start v0",
                                 style=style, layout=lay, continuous_update=False)
+        self.u0.add_class("lab-primary-control")
         self.n_angles = W.IntSlider(value=n_angles, min=3, max=160, description="angles", style=style, layout=lay,
                                     continuous_update=False)
         self.angle_range = W.FloatRangeSlider(value=(0.0, 360.0), min=0.0, max=360.0, step=1.0, description="α range °",

@@ -80,7 +80,7 @@ class Notebook:
     """One notebook open in JupyterLab."""
 
     def __init__(self, page, url, token, name, shots):
-        self.page, self.shots = page, Path(shots)
+        self.page, self.shots, self.name = page, Path(shots), name
         self.shots.mkdir(parents=True, exist_ok=True)
         page.goto(f"{url}/lab/tree/{name}?reset&token={token}")
         page.wait_for_selector(f'{PANEL} .jp-Notebook-ExecutionIndicator[data-status="idle"]', timeout=180_000)
@@ -94,11 +94,33 @@ class Notebook:
         return self.page.locator(f"{PANEL} .jp-CodeCell")
 
     def run_all(self, timeout=300):
-        """Run every cell (Run > Run All Cells) and wait until all code cells have run and the kernel is idle."""
-        page = self.page
-        page.locator(f"{PANEL} .jp-Cell").first.locator(".jp-InputPrompt").click()
-        page.evaluate("() => window.jupyterapp.commands.execute('notebook:run-all-cells')")
-        self.wait_idle(timeout)
+        """Run every cell (Run > Run All Cells) and wait until all code cells have run and the kernel is idle.
+
+        The command acts on the current notebook, so the panel is activated and its kernel session awaited
+        first; if nothing has started after a while (a slow start under load), the command is sent again.
+        """
+        for attempt in range(3):
+            self.page.evaluate(
+                """async (name) => {
+                    const app = window.jupyterapp;
+                    let panel = null;
+                    for (const w of app.shell.widgets('main')) {
+                        if (w.context && w.context.path === name) panel = w;
+                    }
+                    await panel.context.ready;
+                    await panel.sessionContext.ready;
+                    app.shell.activateById(panel.id);
+                    await app.commands.execute('notebook:run-all-cells');
+                }""",
+                self.name,
+            )
+            deadline = time.time() + 30
+            while time.time() < deadline:
+                st = self.state()
+                if st["pending"] < st["code"] or st["status"] == "busy":
+                    return self.wait_idle(timeout)
+                time.sleep(0.5)
+        raise TimeoutError(f"Run All Cells did not start the cells; screenshot {self.shot('run-all')}")
 
     def state(self):
         """Code cells not yet run and the kernel status, read from JupyterLab's notebook model."""
@@ -106,13 +128,13 @@ class Notebook:
             """() => {
                 const nb = window.jupyterapp.shell.currentWidget;
                 const cells = nb.content.model.cells;
-                let pending = 0;
+                let pending = 0, code = 0;
                 for (let i = 0; i < cells.length; i++) {
                     const c = cells.get(i);
-                    if (c.type === 'code' && c.executionCount === null) pending++;
+                    if (c.type === 'code') { code++; if (c.executionCount === null) pending++; }
                 }
                 const kernel = nb.sessionContext.session && nb.sessionContext.session.kernel;
-                return {pending: pending, status: kernel ? kernel.status : 'none'};
+                return {pending: pending, code: code, status: kernel ? kernel.status : 'none'};
             }"""
         )
 

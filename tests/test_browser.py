@@ -41,13 +41,20 @@ def _workdir(tmp_path, names):
 
 
 def _change_control(page, explorer):
-    """Choose another option in the explorer's first dropdown; return a description."""
-    select = explorer.locator("select").first
-    options = select.locator("option").all_inner_texts()
-    current = select.evaluate("s => s.options[s.selectedIndex].text")
-    target = next(o for o in options if o != current)
-    select.select_option(label=target)
-    return f"dropdown {current!r} -> {target!r}"
+    """Change the explorer's primary control (a dropdown: another option; a slider: 25 arrow-key steps)."""
+    control = explorer.locator(".lab-primary-control")
+    select = control.locator("select")
+    if select.count():
+        options = select.locator("option").all_inner_texts()
+        current = select.evaluate("s => s.options[s.selectedIndex].text")
+        target = next(o for o in options if o != current)
+        select.select_option(label=target)
+        return f"dropdown {current!r} -> {target!r}"
+    handle = control.locator(".noUi-handle")
+    handle.focus()
+    for _ in range(25):
+        page.keyboard.press("ArrowRight")
+    return "slider moved 25 steps"
 
 
 def _move_slider(page, explorer, steps=1):
