@@ -17,16 +17,21 @@ and :math:`A, B, C = \mathbf Q\cdot(\mathbf b_{uu}, \mathbf b_{uv}, \mathbf b_{v
     K = \frac{AC - B^2}{q^2},\qquad H = \frac{AG - 2BF + CE}{2\,q^{3/2}},\qquad
     \kappa_{1,2} = H \pm\sqrt{H^2 - K},
 
-so for a rational net ``K`` and ``H^2 - K`` are rational numbers and ``H``,
-:math:`\kappa_{1,2}` are exact algebraic numbers.
+so for a rational net ``K`` and ``H^2 - K`` are exact rational numbers, and
+``H``, :math:`\kappa_{1,2}` need one square root each, which is taken to
+:data:`SQRT_DIGITS` significant digits (mpmath).
 """
 
 from fractions import Fraction
 from math import comb
 from typing import NamedTuple
 
+import mpmath
 import numpy as np
 import sympy as sp
+
+#: Significant digits of the square roots in exact curvature of rational nets.
+SQRT_DIGITS = 50
 
 __all__ = [
     "ExactCurvature",
@@ -64,10 +69,23 @@ def curvature_from_derivatives(bu, bv, buu, buv, bvv):
     E, F, G = bu.dot(bu), bu.dot(bv), bv.dot(bv)
     A, B, C = Q.dot(buu), Q.dot(buv), Q.dot(bvv)
     K = (A * C - B**2) / q**2
-    H = (A * G - 2 * B * F + C * E) / (2 * q * sp.sqrt(q))
-    disc = (A * G - 2 * B * F + C * E) ** 2 / (4 * q**3) - K
-    root = sp.sqrt(disc)
+    num = A * G - 2 * B * F + C * E
+    disc = num**2 / (4 * q**3) - K
+    if q.is_Rational and num.is_Rational:
+        # K and H^2 - K are exact rationals; H and the root are one square root each, taken to
+        # SQRT_DIGITS significant digits with mpmath.  (sympy's exact sqrt of a huge rational factors
+        # it to pull out squares: slow, and for some numbers it fails inside sympy's factorint.)
+        with mpmath.workdps(SQRT_DIGITS + 10):
+            H = sp.Float(mpmath.mpf(num.p) / mpmath.mpf(num.q) / (2 * _mp_sqrt(q) ** 3), SQRT_DIGITS)
+            root = sp.Float(_mp_sqrt(disc) if disc > 0 else 0, SQRT_DIGITS)
+    else:
+        H = num / (2 * q * sp.sqrt(q))
+        root = sp.sqrt(disc)
     return ExactCurvature(K, H, H + root, H - root)
+
+
+def _mp_sqrt(r):
+    return mpmath.sqrt(mpmath.mpf(r.p) / mpmath.mpf(r.q))
 
 
 def curvature_exprs(xyz, uv):

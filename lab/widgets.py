@@ -639,12 +639,20 @@ class ReflectionExplorer(Explorer):
                                      style={"description_width": "90px"}, layout=W.Layout(width="300px"))
         self.elevation = W.FloatSlider(value=60.0, min=-90.0, max=90.0, step=1.0, description="light elev. °",
                                        style={"description_width": "90px"}, layout=W.Layout(width="300px"))
+        self.orientation = W.ToggleButtons(options=["horizontal", "vertical"], value="horizontal",
+                                           description="stripes", style={"description_width": "90px",
+                                                                         "button_width": "100px"})
+        # light-line spacing as a multiple of the default, which spreads the lines over three diagonals
+        self.spacing = W.FloatSlider(value=1.0, min=0.1, max=3.0, step=0.05, description="line spacing ×",
+                                     readout_format=".2f", style={"description_width": "90px"},
+                                     layout=W.Layout(width="300px"))
         self._build_scene()
-        for w in (self.kind, self.count, self.azimuth, self.elevation):
+        for w in (self.kind, self.count, self.azimuth, self.elevation, self.orientation, self.spacing):
             w.observe(self._callback(self.update_lines), "value")
 
     def _controls(self):
-        return [W.HTML(f"<b>{self.title}</b>"), self.kind, self.count, self.azimuth, self.elevation]
+        return [W.HTML(f"<b>{self.title}</b>"), self.kind, self.count, self.orientation, self.spacing,
+                W.HTML("<small>light direction (lines, isophotes):</small>"), self.azimuth, self.elevation]
 
     def _direction(self):
         a = np.radians(self.azimuth.value)
@@ -669,17 +677,26 @@ class ReflectionExplorer(Explorer):
         kind = self.kind.value
         n = self.count.value
         d = self._direction()
+        size = float(np.linalg.norm(np.ptp(self.surface_mesh.points, axis=0)))
         if kind == "stripes":
-            new = stripe_mapping(self.surface_mesh, n_stripes=n)
+            # stripes counted across z on the walls (horizontal, like light tubes) or across the walls' other axis
+            axes = (2, 2, 2, 2, 1, 1) if self.orientation.value == "horizontal" else (1, 1, 0, 0, 0, 0)
+            new = stripe_mapping(self.surface_mesh, n_stripes=n, axes=axes)
         elif kind == "lines":
             horizontal = np.array([d[0], d[1], 0.0])
             if np.linalg.norm(horizontal) < 1e-9:
                 raise ValueError("the light lines need a direction with a horizontal part; lower the elevation")
-            new = reflection_lines(self.surface_mesh, direction=horizontal, count=n)
+            new = reflection_lines(self.surface_mesh, direction=horizontal, count=n,
+                                   spacing=self.spacing.value * 3.0 * size / n)
         else:
             new = isophotes(self.surface_mesh, light=d, count=n)
         if self.overlay_actor is not None:
             self.plotter.remove_actor(self.overlay_actor)
+            self.overlay_actor = None
+        if new.n_points == 0:
+            self.surface_actor.SetVisibility(True)
+            self.refresh()
+            raise _Note("no lines fall on the surface for this direction and spacing: change them")
         if kind == "stripes":
             self.overlay_actor = self.plotter.add_mesh(new, scalars="RGB", rgb=True, preference="cell")
             self.surface_actor.SetVisibility(False)

@@ -25,11 +25,14 @@ def test_exercises_have_stubs_no_solutions_and_no_outputs():
         nb = nbformat.read(path, as_version=4)
         text = "\n".join(c.source for c in nb.cells)
         assert "BEGIN SOLUTION" not in text and "END SOLUTION" not in text, path
-        assert "raise NotImplementedError(" in text, path
+        if nb.metadata["lab"]["tasks"]:  # the gallery has questions (answers stripped) but no code task
+            assert "raise NotImplementedError(" in text, path
+        else:
+            assert "*Your answer here.*" in text, path
         for cell in nb.cells:
             if cell.cell_type == "code":
                 assert cell.outputs == [] and cell.execution_count is None, path
-        assert nb.metadata["lab"]["tasks"], path
+        assert "tasks" in nb.metadata["lab"], path
 
 
 def test_visualize_stub_keeps_the_practicals_comments():
