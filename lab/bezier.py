@@ -256,24 +256,27 @@ def _corner_values(Pw):
 
     Each corner is brought to (0, 0) by reversing the net along u and/or v (a
     view, no copy); reversing a direction flips the sign of odd derivatives
-    along it, hence the factor ``(-1)^(a du + b dv)``.
+    along it, hence the factor ``(-1)^(a du + b dv)``.  The nets are first laid
+    out control point by control point, ``(m+1, n+1, d, batch)``, so that every
+    term of a stencil is one contiguous array over all patches.
     """
     m, n = Pw.shape[-3] - 1, Pw.shape[-2] - 1
+    Q = np.ascontiguousarray(np.moveaxis(Pw, (-3, -2, -1), (0, 1, 2)))  # (m+1, n+1, d, *batch)
     fields = []
     for du, dv in DERIVATIVE_ORDERS:
-        field = np.zeros(Pw.shape[:-3] + (2, 2, Pw.shape[-1]))
+        field = np.zeros((2, 2) + Q.shape[2:])
         su, sv = _corner_stencil(m, du), _corner_stencil(n, dv)
         if su is not None and sv is not None:
             for a in (0, 1):
-                Fa = Pw[..., ::-1, :, :] if a else Pw
+                Fa = Q[::-1] if a else Q
                 for b in (0, 1):
-                    F = Fa[..., :, ::-1, :] if b else Fa
+                    F = Fa[:, ::-1] if b else Fa
                     sign = (-1.0) ** (a * du + b * dv)
-                    acc = field[..., a, b, :]
+                    acc = field[a, b]
                     for k, wk in enumerate(su[1]):
                         for l, wl in enumerate(sv[1]):
-                            acc += (sign * wk * wl) * F[..., k, l, :]
-        fields.append(field)
+                            acc += (sign * wk * wl) * F[k, l]
+        fields.append(np.moveaxis(field, (0, 1, 2), (-3, -2, -1)))  # a view: (*batch, 2, 2, d)
     return fields
 
 
