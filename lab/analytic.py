@@ -30,6 +30,8 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from .derivatives import Derivatives, from_homogeneous
+
 #: Significant digits of the square roots in exact curvature of rational nets.
 SQRT_DIGITS = 50
 
@@ -170,16 +172,9 @@ def bezier_derivatives_exact(P, u, v, weights=None):
         )
     if weights is None:
         return fields
-    # quotient rule (The NURBS Book, eq. 4.20)
-    A = [np.array(f[:-1], dtype=object) for f in fields]
-    w = [f[-1] for f in fields]
-    S = A[0] / w[0]
-    Su = (A[1] - w[1] * S) / w[0]
-    Sv = (A[2] - w[2] * S) / w[0]
-    Suu = (A[3] - 2 * w[1] * Su - w[3] * S) / w[0]
-    Suv = (A[4] - w[1] * Sv - w[2] * Su - w[4] * S) / w[0]
-    Svv = (A[5] - 2 * w[2] * Sv - w[5] * S) / w[0]
-    return [list(x) for x in (S, Su, Sv, Suu, Suv, Svv)]
+    # the quotient rule of the float code, here on object arrays of Fractions (exact)
+    projected = from_homogeneous(Derivatives(*(np.array(f, dtype=object) for f in fields)))
+    return [list(x) for x in projected]
 
 
 def _sympy_vector(vec):

@@ -342,8 +342,8 @@ def _expected_colors(values, cmap):
 # -- wrong variants for hints -----------------------------------------------------
 
 
-def _variant_corner_derivatives(P, variant=None):
-    """Corner derivatives (bu, bv, buu, buv, bvv), each (2, 2, 3), computed with a deliberate mistake."""
+def _variant_nets(P, variant=None):
+    """Derivative nets (bu, bv, buu, buv, bvv) by forward differences, with a deliberate mistake (or none)."""
     m, n = P.shape[0] - 1, P.shape[1] - 1
     fu1, fu2, fv1, fv2, fuv = m, m * (m - 1), n, n * (n - 1), m * n
     if variant == "no_factors":
@@ -351,15 +351,19 @@ def _variant_corner_derivatives(P, variant=None):
     elif variant == "second_factor":
         fu2, fv2 = m, n
     elif variant == "swapped_degrees":
-        fu1, fu2, fv1, fv2 = n, n * (n - 1), m, m * (m - 1)
-    nets = {
+        fu1, fu2, fv1, fv2, fuv = n, n * (n - 1), m, m * (m - 1), n * m
+    return {
         "bu": fu1 * np.diff(P, axis=0),
         "bv": fv1 * np.diff(P, axis=1),
         "buu": fu2 * np.diff(P, 2, axis=0),
         "buv": fuv * np.diff(np.diff(P, axis=0), axis=1),
         "bvv": fv2 * np.diff(P, 2, axis=1),
     }
-    return {k: D[[0, -1]][:, [0, -1]] for k, D in nets.items()}
+
+
+def _variant_corner_derivatives(P, variant=None):
+    """Corner derivatives (bu, bv, buu, buv, bvv), each (2, 2, 3), computed with a deliberate mistake."""
+    return {k: D[[0, -1]][:, [0, -1]] for k, D in _variant_nets(P, variant).items()}
 
 
 def _naive_discriminant(d):
@@ -717,16 +721,11 @@ def derivative_nets(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
     """Check ``func(P)`` returns the Bézier nets of b_u, b_v, b_uu, b_uv, b_vv (practical section 3)."""
     rng = _rng(seed)
 
-    def expected(P):
-        m, n = P.shape[0] - 1, P.shape[1] - 1
-        return (m * np.diff(P, axis=0), n * np.diff(P, axis=1), m * (m - 1) * np.diff(P, 2, axis=0),
-                m * n * np.diff(np.diff(P, axis=0), axis=1), n * (n - 1) * np.diff(P, 2, axis=1))
-
     def cases():
         degrees = [(3, 3), (2, 3), (3, 2)] + ([(4, 2), (2, 5), (5, 4)] if graded else [])
         for m, n in degrees:
             P = _rand_net(rng, m, n)
-            exp = expected(P)
+            exp = list(_variant_nets(P).values())
             got = _call("derivative_nets", func, func, (P.copy(),), timeout=timeout, blocked=_BEZIER_BLOCK)
             name = f"random {m}×{n} net"
             try:
@@ -750,15 +749,7 @@ def derivative_nets(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
                     hint += " Yours looks transposed."
             else:
                 for variant in ("no_factors", "second_factor", "swapped_degrees"):
-                    mm, nn = (n, m) if variant == "swapped_degrees" else (m, n)
-                    fac = {
-                        "no_factors": (1, 1, 1, 1, 1),
-                        "second_factor": (m, n, m, m * n, n),
-                        "swapped_degrees": (mm, nn, mm * (mm - 1), mm * nn, nn * (nn - 1)),
-                    }[variant]
-                    raw = (np.diff(P, axis=0), np.diff(P, axis=1), np.diff(P, 2, axis=0),
-                           np.diff(np.diff(P, axis=0), axis=1), np.diff(P, 2, axis=1))
-                    if _close(g, fac[k] * raw[k], rtol=1e-12):
+                    if _close(g, _variant_nets(P, variant)[_NET_NAMES[k]], rtol=1e-12):
                         hint = VARIANT_HINTS[variant]
                         break
             yield Case(name, False, f"{_NET_NAMES[k]} = {_fmt(e)}", f"{_NET_NAMES[k]} = {_fmt(g)}",

@@ -1266,16 +1266,7 @@ def _runs(mask):
     n = len(mask)
     start = int(np.flatnonzero(~mask)[0])
     order = (np.arange(n) + start) % n  # begins at a False entry, so no run is split
-    runs, current = [], []
-    for k in order:
-        if mask[k]:
-            current.append(k)
-        elif current:
-            runs.append(np.array(current))
-            current = []
-    if current:
-        runs.append(np.array(current))
-    return runs
+    return [order[run] for run in _linear_runs(np.asarray(mask)[order])]
 
 
 def _piece(surface, wrap, sL, angles, uv, closed):
