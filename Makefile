@@ -33,7 +33,8 @@ $(STAMP): pyproject.toml jupyter/overrides.json | $(PY)
 setup: system-deps $(STAMP)
 
 lab: setup
-	$(PY) -m jupyter lab --notebook-dir=exercises --port=$(PORT) $(if $(DISPLAY),,--no-browser)
+	$(PY) -m jupyter lab --notebook-dir=exercises --port=$(PORT) $(if $(DISPLAY),,--no-browser) \
+	  $(if $(filter 0,$(shell id -u)),--allow-root,)
 
 test: EXTRA_APT = $(TEST_APT_PACKAGES)
 test: setup
