@@ -332,9 +332,11 @@ class CurvatureExplorer(Explorer):
         self.color_map = _dropdown(list(maps.items()), "linear", "colour map")
         self.depth = W.IntSlider(value=depth, min=0, max=max_depth, description="depth", style={"description_width": "90px"},
                                  layout=W.Layout(width="300px"))
-        self.range_mode = W.ToggleButtons(options=["auto", "symmetric", "manual"], value="auto", description="range",
-                                          style={"description_width": "90px", "button_width": "66px"},
-                                          layout=W.Layout(width="310px"))
+        self.range_mode = W.ToggleButtons(options=[("auto", "auto"), ("± max", "symmetric"), ("manual", "manual")],
+                                          value="auto", description="range",
+                                          style={"description_width": "90px", "button_width": "58px"},
+                                          tooltips=["min … max of the values", "−max|value| … +max|value|",
+                                                    "the min / max slider"])
         self.range = W.FloatRangeSlider(value=(-1.0, 1.0), min=-10.0, max=10.0, step=0.001, description="min / max",
                                         readout_format=".3g", disabled=True, style={"description_width": "90px"},
                                         layout=W.Layout(width="300px"))
@@ -549,6 +551,8 @@ class CurvatureExplorer(Explorer):
 
     def _recolor_student(self):
         """Run the student's visualize_curvature and show the colours it stored."""
+        self.actor.mapper.ScalarVisibilityOff()  # a plain surface until the student's colours arrive
+        self.scalar_bar.SetVisibility(False)
         patches = self._patches(self.depth.value)
         mode = self.measure.value
         cmap = self.color_map.value
@@ -561,7 +565,7 @@ class CurvatureExplorer(Explorer):
         self.actor.mapper.SelectColorArray("RGB")
         self.mesh.point_data.active_scalars_name = "RGB"
         self.actor.mapper.SetColorModeToDirectScalars()
-        self.scalar_bar.SetVisibility(False)
+        self.actor.mapper.ScalarVisibilityOn()
         self.info.value = f"<small>your visualize_curvature on {len(patches)} patches</small>"
 
 
