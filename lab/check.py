@@ -798,20 +798,22 @@ def corner_derivatives(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT
     return _report("corner_derivatives", graded, cases)
 
 
-def _scalar_map_check(task, func, samples, expected_fn, hint_fn, *, graded, timeout):
+def _numeric_task(task, func, samples, expected_fn, diagnose, *, graded, timeout, shape_text, blocked=None):
+    """Run ``func(*args)`` for every ``(name, args)`` and compare with ``expected_fn(*args)`` (rtol 1e-9)."""
+
     def cases():
         for name, args in samples:
-            exp = expected_fn(*args)
-            got = _call(task, func, func, args, timeout=timeout, blocked=_COLOR_BLOCK)
+            exp = np.asarray(expected_fn(*args), dtype=float)
+            got = _call(task, func, func, tuple(np.array(a, copy=True) if isinstance(a, np.ndarray) else a
+                                                for a in args), timeout=timeout, blocked=blocked)
             try:
                 val = np.asarray(got, dtype=float)
-                assert val.shape == np.shape(exp)
+                assert val.shape == exp.shape
             except (TypeError, ValueError, AssertionError):
-                yield Case(name, False, _fmt(exp), repr(got)[:120],
-                           "return an (r, g, b) tuple" if np.ndim(exp) else "return one number")
+                yield Case(name, False, shape_text, repr(got)[:200], f"return {shape_text}.")
                 continue
             ok = bool(np.all(np.isfinite(val))) and _close(val, exp, rtol=1e-9)
-            yield Case(name, ok, _fmt(exp), _fmt(val), "" if ok else hint_fn(args, val, exp))
+            yield Case(name, ok, _fmt(exp), _fmt(val), "" if ok else diagnose(args, val, exp))
 
     return _report(task, graded, cases)
 
@@ -829,17 +831,17 @@ def h(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
         return f"check the piece for x in [{piece / 4:g}, {(piece + 1) / 4:g}]: " + [
             "(0, 4x, 1)", "(0, 1, 2 − 4x)", "(4x − 2, 1, 0)", "(1, 4 − 4x, 0)"][piece]
 
-    return _scalar_map_check("h", func, [(f"h({x:g})", (float(x),)) for x in xs],
-                             lambda x: colormaps.h(x), hint, graded=graded, timeout=timeout)
+    return _numeric_task("h", func, [(f"h({x:g})", (float(x),)) for x in xs], lambda x: colormaps.h(x), hint,
+                         graded=graded, timeout=timeout, shape_text="an (r, g, b) tuple", blocked=_COLOR_BLOCK)
 
 
 def f1(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
     """Check the cut map ``func(x)`` (f1 of practical section 4)."""
     rng = _rng(seed)
     xs = [-2.0, 0.0, 0.3, 1.0, 7.5] + list(np.round(rng.uniform(-2, 3, 4 if graded else 2), 3))
-    return _scalar_map_check("f1", func, [(f"f1({x:g})", (float(x),)) for x in xs], lambda x: min(max(x, 0.0), 1.0),
-                             lambda a, v, e: "values below 0 give 0, above 1 give 1, others stay.",
-                             graded=graded, timeout=timeout)
+    return _numeric_task("f1", func, [(f"f1({x:g})", (float(x),)) for x in xs], lambda x: min(max(x, 0.0), 1.0),
+                         lambda a, v, e: "values below 0 give 0, above 1 give 1, others stay.",
+                         graded=graded, timeout=timeout, shape_text="one number", blocked=_COLOR_BLOCK)
 
 
 def f2(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
@@ -862,10 +864,8 @@ def f2(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
                     "return 0.5 (green) in that case.")
         return "f2(x) = (x − κmin) / (κmax − κmin)."
 
-    def safe(x, lo, hi):
-        return expected(x, lo, hi)
-
-    rep = _scalar_map_check("f2", func, samples, safe, hint, graded=graded, timeout=timeout)
+    rep = _numeric_task("f2", func, samples, expected, hint, graded=graded, timeout=timeout, shape_text="one number",
+                        blocked=_COLOR_BLOCK)
     if rep.status == "error" and "ZeroDivision" in rep.message:
         rep.message += ("\nhint: when all curvature values are equal, κmax − κmin = 0; return 0.5 (green) "
                         "in that case instead of dividing.")
@@ -888,7 +888,8 @@ def f3(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
                     "compare |x| with a small tolerance, e.g. 1e-9, instead of x == 0.")
         return "f3 is 0 for negative, 0.5 for zero, 1 for positive values."
 
-    return _scalar_map_check("f3", func, samples, expected, hint, graded=graded, timeout=timeout)
+    return _numeric_task("f3", func, samples, expected, hint, graded=graded, timeout=timeout, shape_text="one number",
+                         blocked=_COLOR_BLOCK)
 
 
 def _visualize_cases(graded, rng):
@@ -1027,26 +1028,6 @@ TASKS = {
 
 
 # -- the interrogation tasks (notebooks 06-08) ------------------------------------------------------
-
-
-def _numeric_task(task, func, samples, expected_fn, diagnose, *, graded, timeout, shape_text, blocked=None):
-    """Run ``func(*args)`` for every ``(name, args)`` and compare with ``expected_fn(*args)`` (rtol 1e-9)."""
-
-    def cases():
-        for name, args in samples:
-            exp = np.asarray(expected_fn(*args), dtype=float)
-            got = _call(task, func, func, tuple(np.array(a, copy=True) if isinstance(a, np.ndarray) else a
-                                                for a in args), timeout=timeout, blocked=blocked)
-            try:
-                val = np.asarray(got, dtype=float)
-                assert val.shape == exp.shape
-            except (TypeError, ValueError, AssertionError):
-                yield Case(name, False, shape_text, repr(got)[:200], f"return {shape_text}.")
-                continue
-            ok = bool(np.all(np.isfinite(val))) and _close(val, exp, rtol=1e-9)
-            yield Case(name, ok, _fmt(exp), _fmt(val), "" if ok else diagnose(args, val, exp))
-
-    return _report(task, graded, cases)
 
 
 def _unit(v):
