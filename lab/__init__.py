@@ -1,79 +1,106 @@
-"""curvature-lab: exact curvature of free-form surfaces for teaching (Versuch 6: Krümmungsvisualisierung)."""
+"""curvature-lab: exact curvature of free-form surfaces for teaching (Versuch 6: Krümmungsvisualisierung).
 
-from . import bezier, bspline, colormaps, curvature, focal, geodesics, reflection, surfaces, trimming, widgets
-from .curvature import Curvature, DegeneratePointWarning, PointClass
-from .derivatives import Derivatives
-from .patches import BezierPatch, BezierPatches, ColorMap, CurvatureMode
-from .surface import BezierSurface, BSplineSurface, ParametricSurface, Surface
-from .trimming import BSplineLoop, TrimmedSurface, trimmed
-from .geodesics import (
-    Fan,
-    Isodistance,
-    geodesic,
-    geodesic_between,
-    geodesic_fan,
-    normal_section,
-    normal_section_fan,
-    polar_isodistance,
-)
-from .widgets import CurvatureExplorer, FocalExplorer, GeodesicExplorer, ReflectionExplorer
-from .interrogation import (
-    FocalSheetWarning,
-    focal_sheets,
-    focal_surface,
-    isophotes,
-    parabolic_lines,
-    polylines,
-    reflection_lines,
-    stripe_mapping,
-)
+The package is layered; a folder is a layer and imports only point down (``LAYERS``, bottom first):
+
+=================  ======================================================================================
+``geometry/``      formulas on arrays: Bézier, B-spline/NURBS, derivatives, curvature, colour maps, sympy-exact
+                   references (numpy, scipy, sympy)
+``mesh/``          PyVista meshes with exact curvature, welding, level lines, geomview files
+``model/``         the objects a student handles: surface classes, named surfaces, the practical's
+                   ``BezierPatches``
+``interrogation/`` focal surfaces, reflection lines, geodesics and isodistance curves, trimmed surfaces
+``view/``          offscreen pictures and the interactive explorers (ipywidgets, trame)
+``teaching/``      in-notebook checks and hints, the sandboxed grader, exercise generation
+=================  ======================================================================================
+
+``import lab`` loads nothing but this file: every public name (``lab.BezierSurface``, ``lab.surfaces``,
+``lab.geodesic``, ``lab.CurvatureExplorer``, ``lab.check`` …) is imported when first used (PEP 562), so
+the command line and the grader do not pay for PyVista, ipywidgets or SciPy's solvers unless they use them.
+The short module names of the public API (``lab.curvature``, ``lab.colormaps``, ``lab.geodesics``,
+``lab.widgets`` …) are aliases of the modules in the layers and work with ``import`` too.
+"""
+
+import importlib
+import importlib.abc
+import importlib.util
+import sys
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "bezier",
-    "bspline",
-    "colormaps",
-    "curvature",
-    "surfaces",
-    "Curvature",
-    "DegeneratePointWarning",
-    "PointClass",
-    "Derivatives",
-    "BezierPatch",
-    "BezierPatches",
-    "ColorMap",
-    "CurvatureMode",
-    "BezierSurface",
-    "BSplineSurface",
-    "ParametricSurface",
-    "Surface",
-    "trimming",
-    "BSplineLoop",
-    "TrimmedSurface",
-    "trimmed",
-    "focal",
-    "reflection",
-    "FocalSheetWarning",
-    "focal_sheets",
-    "focal_surface",
-    "isophotes",
-    "parabolic_lines",
-    "polylines",
-    "reflection_lines",
-    "stripe_mapping",
-    "geodesics",
-    "Fan",
-    "Isodistance",
-    "geodesic",
-    "geodesic_between",
-    "geodesic_fan",
-    "normal_section",
-    "normal_section_fan",
-    "polar_isodistance",
-    "widgets",
-    "CurvatureExplorer",
-    "FocalExplorer",
-    "GeodesicExplorer",
-    "ReflectionExplorer",
-]
+#: The layers, bottom first: a module of a layer imports only from its own layer and the ones before it.
+LAYERS = ("geometry", "mesh", "model", "interrogation", "view", "teaching")
+
+#: Public short module names -> the module in its layer.
+MODULES = {
+    "analytic": "lab.geometry.analytic",
+    "bezier": "lab.geometry.bezier",
+    "bspline": "lab.geometry.bspline",
+    "colormaps": "lab.geometry.colormaps",
+    "curvature": "lab.geometry.curvature",
+    "derivatives": "lab.geometry.derivatives",
+    "surface": "lab.model.surface",
+    "surfaces": "lab.model.surfaces",
+    "patches": "lab.model.patches",
+    "focal": "lab.interrogation.focal",
+    "reflection": "lab.interrogation.reflection",
+    "geodesics": "lab.interrogation.geodesics",
+    "trimming": "lab.interrogation.trimming",
+    "render": "lab.view.render",
+    "widgets": "lab.view.explorers",
+    "check": "lab.teaching.check",
+    "grading": "lab.teaching.grading",
+    "notebooks": "lab.teaching.notebooks",
+}
+
+#: Public names -> the module that defines them.
+_NAMES = {
+    "lab.geometry.curvature": ("Curvature", "CurvatureMode", "DegeneratePointWarning", "PointClass"),
+    "lab.geometry.colormaps": ("ColorMap",),
+    "lab.geometry.derivatives": ("Derivatives",),
+    "lab.model.patches": ("BezierPatch", "BezierPatches"),
+    "lab.model.surface": ("BezierSurface", "BSplineSurface", "ParametricSurface", "Surface"),
+    "lab.interrogation.trimming": ("BSplineLoop", "TrimmedSurface", "trimmed"),
+    "lab.interrogation.geodesics": ("Fan", "Isodistance", "geodesic", "geodesic_between", "geodesic_fan",
+                                    "normal_section", "normal_section_fan", "polar_isodistance"),
+    "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
+                                 "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
+    "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
+}
+_ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}
+
+__all__ = sorted(MODULES) + sorted(_ATTRIBUTES)
+
+
+def __getattr__(name):
+    if name in MODULES:
+        module = importlib.import_module(f"{__name__}.{name}")
+    elif name in _ATTRIBUTES:
+        module = getattr(importlib.import_module(_ATTRIBUTES[name]), name)
+    else:
+        raise AttributeError(f"module 'lab' has no attribute {name!r}")
+    globals()[name] = module  # later look-ups skip this function
+    return module
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
+
+class _AliasFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """Makes ``import lab.curvature`` (and ``from lab.curvature import …``) give the module of its layer."""
+
+    def find_spec(self, fullname, path=None, target=None):
+        short = fullname.partition(".")[2] if fullname.startswith(__name__ + ".") else None
+        if short in MODULES:
+            return importlib.util.spec_from_loader(fullname, self)
+        return None
+
+    def create_module(self, spec):
+        return importlib.import_module(MODULES[spec.name.partition(".")[2]])
+
+    def exec_module(self, module):
+        pass  # the real module is already executed
+
+
+if not any(isinstance(f, _AliasFinder) for f in sys.meta_path):
+    sys.meta_path.append(_AliasFinder())

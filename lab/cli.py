@@ -13,8 +13,9 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from . import colormaps, surfaces
-from .patches import CurvatureMode
+from .geometry import colormaps
+from .geometry.curvature import CurvatureMode
+from .model import surfaces
 
 OUTPUT_SUFFIXES = (".png", ".html", ".off", ".vtk", ".vtp", ".bez")
 
@@ -28,7 +29,7 @@ def _render(args, parser):
     if out.parent and not out.parent.exists():
         parser.error(f"output folder {out.parent} does not exist")
     from . import mesh as _mesh
-    from . import render
+    from .view import render
 
     start = time.perf_counter()
     steps = 3 + args.depth
@@ -125,11 +126,11 @@ def build_parser():
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "grade":
-        from . import grading
+        from .teaching import grading
 
         return grading.main(argv[1:])
     if argv and argv[0] == "exercises":
-        from . import notebooks
+        from .teaching import notebooks
 
         return notebooks.main(argv[1:])
     parser = build_parser()

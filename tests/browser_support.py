@@ -168,15 +168,22 @@ class Notebook:
             time.sleep(1)
         return img
 
-    def wait_for_change(self, explorer, before, timeout=60, threshold=1.0):
+    def wait_for_change(self, explorer, before, timeout=60, threshold=1.0, min_coverage=0.03):
+        """Wait until the view differs from ``before`` and has settled (the same picture twice, not blank).
+
+        Frames in between (an image half pushed, a plain surface before the colours arrive) are skipped.
+        """
         deadline = time.time() + timeout
-        img = before
+        img, last, changed = before, None, False
         while time.time() < deadline:
             time.sleep(1)
             img = self.view_image(explorer)
-            if img.shape == before.shape and np.mean(np.abs(img - before)) > threshold:
+            changed = changed or (img.shape == before.shape and np.mean(np.abs(img - before)) > threshold)
+            settled = last is not None and img.shape == last.shape and np.mean(np.abs(img - last)) < 0.05
+            if changed and settled and coverage(img) > min_coverage:
                 return img, True
-        return img, False
+            last = img
+        return img, changed
 
     def run_cell(self, source, expect, timeout=120):
         """Append a cell with ``source``, run it and wait for ``expect`` in its output; return the output text."""

@@ -112,7 +112,7 @@ def test_kernel_survives_with_default_comm_settings(browser, tmp_path):
         explorer = nb.explorers().first
         _move_slider(nb.page, explorer)  # depth 2 -> 3: a recomputation, rendered from a callback
         out = nb.run_cell(
-            "import time; time.sleep(3); e = [x for x in lab.widgets._INSTANCES if getattr(x, 'student', 1) is None][0]\n"
+            "import time; time.sleep(3); e = [x for x in lab.view.explorers.base._INSTANCES if getattr(x, 'student', 1) is None][0]\n"
             "print('kernel-alive', 6 * 7, e.depth.value, repr(e.status.value), lab.widgets.callback_threads())",
             "kernel-alive 42")
         assert "kernel-alive 42 3 ''" in out, f"depth slider did not reach the kernel or reported an error: {out}"

@@ -8,6 +8,7 @@ import pytest
 
 import lab
 from lab import check
+from lab.teaching import hints
 from lab.colormaps import f1, f2, f3, h
 
 
@@ -256,7 +257,7 @@ def test_fundamental_forms_and_curvatures_hints():
 
 
 def VARIANT(name):
-    return check.VARIANT_HINTS[name][:40]
+    return hints.VARIANT_HINTS[name][:40]
 
 
 def _nets(P):
@@ -286,7 +287,7 @@ def test_derivative_nets_and_corners_hints():
 
 
 def test_cases_are_fresh_each_run_and_reproducible_with_a_seed():
-    from lab.check import _rand_net
+    from lab.teaching.references import _rand_net
 
     a = _rand_net(np.random.default_rng(), 2, 3)
     b = _rand_net(np.random.default_rng(), 2, 3)

@@ -4,9 +4,11 @@ import warnings
 
 import numpy as np
 import pytest
+import pyvista
 
 import lab
-from lab import focal, interrogation as I, surfaces
+from lab import focal, surfaces
+from lab.interrogation import meshes as I
 from lab.mesh import surface_mesh
 
 
@@ -210,7 +212,7 @@ def test_errors(sphere_mesh):
     with pytest.raises(TypeError, match="function must be a name or a callable"):
         I.focal_surface(sphere_mesh, 1.0, 3)
     with pytest.raises(ValueError, match=r"needs curvature point data K, H, k1, k2, N; missing K, H, k1, k2, N"):
-        I.focal_surface(lab.mesh.pv.Sphere(), 1.0)
+        I.focal_surface(pyvista.Sphere(), 1.0)
     with pytest.raises(TypeError, match="expected a lab.Surface, a lab.BezierPatches or a pyvista.PolyData"):
         I.focal_sheets(np.zeros((3, 3)))
     with pytest.raises(ValueError, match="resolution applies to surfaces and patches only"):

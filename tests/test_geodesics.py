@@ -10,7 +10,6 @@ from lab import surfaces
 from lab.geodesics import (
     Fan,
     Path,
-    _Problem,
     christoffel,
     geodesic,
     geodesic_between,
@@ -20,6 +19,7 @@ from lab.geodesics import (
     polar_isodistance,
     start_direction,
 )
+from lab.interrogation.geodesics.problem import _Problem
 
 
 def skew_plane():

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import lab
-from lab import interrogation as I
+from lab.interrogation import meshes as I
 from lab import reflection as Rf
 from lab import surfaces
 from lab.bezier import bernstein

@@ -1,0 +1,284 @@
+r"""Tensor-product B-spline and NURBS surfaces: validation, evaluation, knot insertion, Bézier extraction.
+
+A surface of degrees ``(p, q)`` has a control net ``P`` of shape
+``(nu, nv, d)``, knot vectors of lengths ``nu + p + 1`` and ``nv + q + 1`` and
+optionally positive weights ``(nu, nv)``.  Its domain is
+``[t_p, t_{nu}] x [s_q, s_{nv}]``, which covers clamped and unclamped knot
+vectors alike.
+
+.. math:: \mathbf x(u,v) = \frac{\sum_i\sum_j w_{ij}\mathbf P_{ij} N_{i,p}(u) N_{j,q}(v)}
+                               {\sum_i\sum_j w_{ij} N_{i,p}(u) N_{j,q}(v)}
+
+References: The NURBS Book (Piegl & Tiller), A2.1 (span), A2.3 (basis
+function derivatives), A5.1 (knot insertion, Boehm's algorithm), A4.4
+(rational derivatives); the practical (``seeds/001``, section 5) for the
+conversion to Bézier patches.
+"""
+
+import numpy as np
+
+from . import validation as _v
+from .bezier import DERIVATIVE_ORDERS, dehomogenize, homogeneous
+from .derivatives import Derivatives, from_homogeneous
+
+__all__ = [
+    "validate_knots",
+    "domain",
+    "find_span",
+    "basis_derivatives",
+    "derivatives",
+    "evaluate",
+    "insert_knot",
+    "to_bezier",
+]
+
+
+def validate_knots(knots, degree, n_points, name="knot vector"):
+    """Check a knot vector against its degree and number of control points.
+
+    Returns the knots as a float array.  Raises ``ValueError`` for a wrong
+    length, non-finite or decreasing knots, a knot repeated more than
+    ``degree + 1`` times, or an empty domain; ``TypeError`` for a non-integer degree.
+    """
+    degree = _v.as_positive_int(degree, f"degree of the {name}", minimum=1)
+    t = np.asarray(knots, dtype=float) if not isinstance(knots, (str, bytes)) else None
+    if t is None or t.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D sequence of numbers; got {knots!r}")
+    if not np.all(np.isfinite(t)):
+        raise ValueError(f"{name} must contain only finite values; got {t.tolist()}")
+    expected = n_points + degree + 1
+    if t.size != expected:
+        raise ValueError(
+            f"{name} must have {expected} knots ({n_points} control points + degree {degree} + 1); got {t.size}"
+        )
+    if np.any(np.diff(t) < 0):
+        raise ValueError(f"{name} must be non-decreasing; got {t.tolist()}")
+    _, counts = np.unique(t, return_counts=True)
+    if counts.max() > degree + 1:
+        raise ValueError(
+            f"{name}: a knot may be repeated at most degree + 1 = {degree + 1} times; got {counts.max()}"
+        )
+    if not t[degree] < t[n_points]:
+        raise ValueError(f"{name} has an empty domain [t_{degree}, t_{n_points}] = [{t[degree]:g}, {t[n_points]:g}]")
+    return t
+
+
+def domain(knots, degree):
+    """Parameter interval ``(t_p, t_{n})`` of a knot vector with ``n`` control points."""
+    n_points = len(knots) - degree - 1
+    return float(knots[degree]), float(knots[n_points])
+
+
+def find_span(knots, degree, t):
+    """Index ``k`` of the knot span ``[t_k, t_{k+1})`` holding each parameter (The NURBS Book, A2.1).
+
+    Vectorised; the right end of the domain belongs to the last non-empty span.
+    """
+    n_points = len(knots) - degree - 1
+    lo, hi = domain(knots, degree)
+    t = np.clip(np.asarray(t, dtype=float), lo, hi)
+    k = np.searchsorted(knots, t, side="right") - 1
+    # At t == hi the search lands after the end of the domain; step back to the
+    # last non-empty span.
+    last = np.searchsorted(knots, hi, side="left") - 1
+    return np.clip(k, degree, min(n_points - 1, last))
+
+
+def basis_derivatives(knots, degree, span, t, n_derivatives):
+    """Non-zero basis functions and their derivatives (The NURBS Book, A2.3), vectorised.
+
+    Parameters
+    ----------
+    knots : (n + p + 1,) ndarray
+    degree : int
+    span : (k,) int ndarray
+        Spans from :func:`find_span`.
+    t : (k,) ndarray
+        Parameters.
+    n_derivatives : int
+        Highest derivative order.
+
+    Returns
+    -------
+    ndarray, shape ``(k, n_derivatives + 1, degree + 1)``
+        ``out[:, r, i]`` is the r-th derivative of ``N_{span-p+i, p}``.
+    """
+    p = degree
+    t = np.asarray(t, dtype=float)
+    span = np.asarray(span)
+    k = t.shape[0]
+    ndu = np.zeros((p + 1, p + 1, k))
+    ndu[0, 0] = 1.0
+    left = np.zeros((p + 1, k))
+    right = np.zeros((p + 1, k))
+    for j in range(1, p + 1):
+        left[j] = t - knots[span + 1 - j]
+        right[j] = knots[span + j] - t
+        saved = np.zeros(k)
+        for r in range(j):
+            ndu[j, r] = right[r + 1] + left[j - r]  # knot differences (lower triangle)
+            temp = ndu[r, j - 1] / ndu[j, r]
+            ndu[r, j] = saved + right[r + 1] * temp  # basis functions (upper triangle)
+            saved = left[j - r] * temp
+        ndu[j, j] = saved
+    n = n_derivatives
+    ders = np.zeros((n + 1, p + 1, k))
+    ders[0] = ndu[:, p]
+    for r in range(p + 1):
+        a = np.zeros((2, p + 1, k))
+        a[0, 0] = 1.0
+        s1, s2 = 0, 1
+        for kk in range(1, n + 1):
+            d = np.zeros(k)
+            rk, pk = r - kk, p - kk
+            if r >= kk:
+                a[s2, 0] = a[s1, 0] / ndu[pk + 1, rk]
+                d = a[s2, 0] * ndu[rk, pk]
+            j1 = 1 if rk >= -1 else -rk
+            j2 = kk - 1 if r - 1 <= pk else p - r
+            for j in range(j1, j2 + 1):
+                a[s2, j] = (a[s1, j] - a[s1, j - 1]) / ndu[pk + 1, rk + j]
+                d = d + a[s2, j] * ndu[rk + j, pk]
+            if r <= pk:
+                a[s2, kk] = -a[s1, kk - 1] / ndu[pk + 1, r]
+                d = d + a[s2, kk] * ndu[r, pk]
+            ders[kk, r] = d
+            s1, s2 = s2, s1
+    factor = p
+    for kk in range(1, n + 1):
+        ders[kk] *= factor
+        factor *= p - kk
+    return np.moveaxis(ders, -1, 0)
+
+
+def _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights):
+    P = _v.as_control_net(P, dim=None)
+    tu = validate_knots(knots_u, degree_u, P.shape[0], "knot vector in u")
+    tv = validate_knots(knots_v, degree_v, P.shape[1], "knot vector in v")
+    weights = _v.as_weights(weights, P.shape[:2])
+    return P, tu, tv, weights
+
+
+def derivatives(P, knots_u, knots_v, degree_u, degree_v, u, v, weights=None):
+    """Point and first and second partial derivatives of a B-spline / NURBS surface.
+
+    Parameters
+    ----------
+    P : (nu, nv, d) array_like
+        Control net, first index along u.
+    knots_u, knots_v : array_like
+        Knot vectors of lengths ``nu + degree_u + 1`` and ``nv + degree_v + 1``.
+    degree_u, degree_v : int
+    u, v : array_like
+        Parameters in the domain, broadcast against each other to shape ``S``.
+    weights : (nu, nv) array_like, optional
+
+    Returns
+    -------
+    Derivatives
+        Fields of shape ``S + (d,)``.
+    """
+    P, tu, tv, weights = _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights)
+    u, v = _v.as_parameters(u, v, (domain(tu, degree_u), domain(tv, degree_v)))
+    Pw = homogeneous(P, weights)
+    S = u.shape
+    uf, vf = u.ravel(), v.ravel()
+    su = find_span(tu, degree_u, uf)
+    sv = find_span(tv, degree_v, vf)
+    Nu = basis_derivatives(tu, degree_u, su, uf, 2)
+    Nv = basis_derivatives(tv, degree_v, sv, vf, 2)
+    iu = su[:, None] - degree_u + np.arange(degree_u + 1)
+    iv = sv[:, None] - degree_v + np.arange(degree_v + 1)
+    local = Pw[iu[:, :, None], iv[:, None, :]]  # (k, p+1, q+1, d)
+    fields = [
+        np.einsum("ki,kj,kijd->kd", Nu[:, du], Nv[:, dv], local, optimize=True).reshape(S + (Pw.shape[-1],))
+        for du, dv in DERIVATIVE_ORDERS
+    ]
+    D = Derivatives(*fields)
+    return D if weights is None else from_homogeneous(D)
+
+
+def evaluate(P, knots_u, knots_v, degree_u, degree_v, u, v, weights=None):
+    """Surface points: the field ``b`` of :func:`derivatives`."""
+    return derivatives(P, knots_u, knots_v, degree_u, degree_v, u, v, weights).b
+
+
+def insert_knot(Pw, knots, degree, t, times=1, axis=0):
+    """Insert the knot ``t`` ``times`` times by Boehm's algorithm (The NURBS Book, A5.1).
+
+    Works on any array of (homogeneous) control points whose control index is
+    ``axis``; all other axes are carried along, so a whole surface net is
+    refined in one direction at once.  The curve/surface is unchanged.
+
+    Returns
+    -------
+    Pw_new : ndarray
+        ``times`` more control points along ``axis``.
+    knots_new : ndarray
+    """
+    p = degree
+    Q = np.moveaxis(np.asarray(Pw, dtype=float), axis, 0)
+    U = np.asarray(knots, dtype=float)
+    lo, hi = domain(U, p)
+    if not lo <= t <= hi:
+        raise ValueError(f"knot to insert must lie in the domain [{lo:g}, {hi:g}]; got {t:g}")
+    for _ in range(times):
+        s = int(np.count_nonzero(U == t))
+        if s >= p + 1:
+            raise ValueError(f"knot {t:g} already has multiplicity {s}; at most degree + 1 = {p + 1} is allowed")
+        k = int(np.searchsorted(U, t, side="right") - 1)  # U_k <= t < U_{k+1}
+        new = np.empty((Q.shape[0] + 1,) + Q.shape[1:])
+        new[: k - p + 1] = Q[: k - p + 1]
+        new[k - s + 1 :] = Q[k - s :]
+        for i in range(k - p + 1, k - s + 1):
+            alpha = (t - U[i]) / (U[i + p] - U[i])
+            new[i] = alpha * Q[i] + (1.0 - alpha) * Q[i - 1]
+        Q = new
+        U = np.insert(U, k + 1, t)
+    return np.moveaxis(Q, 0, axis), U
+
+
+def _to_bezier_1d(Pw, U, p, axis):
+    """Insert knots along ``axis`` until every knot of the domain has multiplicity >= p; return segments."""
+    lo, hi = domain(U, p)
+    for x in np.unique(U[(U >= lo) & (U <= hi)]):
+        s = int(np.count_nonzero(U == x))
+        if s < p:
+            Pw, U = insert_knot(Pw, U, p, x, times=p - s, axis=axis)
+    values = np.unique(U[(U >= lo) & (U <= hi)])
+    segments, intervals = [], []
+    for a, b in zip(values[:-1], values[1:]):
+        k = int(np.searchsorted(U, a, side="right") - 1)  # last index with U_k == a
+        segments.append(np.take(Pw, np.arange(k - p, k + 1), axis=axis))
+        intervals.append((float(a), float(b)))
+    return segments, intervals
+
+
+def to_bezier(P, knots_u, knots_v, degree_u, degree_v, weights=None):
+    """Bézier patches of a B-spline / NURBS surface, one per non-empty knot span.
+
+    Every knot inside the domain is inserted until it has multiplicity equal to
+    the degree (practical, section 5: "zu jedem Parameterquadrat die
+    entsprechende Bézier-Darstellung").
+
+    Returns
+    -------
+    nets : ndarray, shape ``(su, sv, p+1, q+1, d)``
+        ``nets[a, b]`` is the patch over the a-th u-span and b-th v-span.
+    weights : ndarray of shape ``(su, sv, p+1, q+1)`` or None
+    intervals_u : list of (float, float)
+        The u-spans, and ``intervals_v`` likewise.
+    intervals_v : list of (float, float)
+    """
+    P, tu, tv, weights = _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights)
+    Pw = homogeneous(P, weights)
+    strips, intervals_u = _to_bezier_1d(Pw, tu, degree_u, axis=0)
+    rows = []
+    for strip in strips:
+        patches, intervals_v = _to_bezier_1d(strip, tv, degree_v, axis=1)
+        rows.append(np.stack(patches, axis=0))
+    nets = np.stack(rows, axis=0)
+    if weights is None:
+        return nets, None, intervals_u, intervals_v
+    nets, w = dehomogenize(nets)
+    return nets, w, intervals_u, intervals_v

@@ -1,0 +1,252 @@
+r"""Colour maps from curvature values to RGB (practical ``seeds/001`` section 4; Dill 1981).
+
+The practical colours in two stages: a function :math:`f:\mathbb R\to[0,1]`
+normalises a curvature value and the ramp :math:`h:[0,1]\to[0,1]^3` turns it
+into a colour, blue (small) → green (middle) → red (large):
+
+.. math::
+
+    h(x) = \begin{cases} (0, 4x, 1) & 0 \le x \le 0.25\\ (0, 1, 2-4x) & 0.25 < x \le 0.5\\
+                          (4x-2, 1, 0) & 0.5 < x \le 0.75\\ (1, 4-4x, 0) & 0.75 < x \le 1\end{cases}
+
+with the normalisations :func:`f1` (cut), :func:`f2` (linear min/max) and
+:func:`f3` (classification by sign).  :func:`dill` is the five-band table of
+Dill's figure 6; :func:`symmetric`, :func:`percentile` and :func:`signed_log`
+are our answers to the practical's question "Entwerfen Sie selbst andere
+sinnvolle Funktionen".  Every map takes an array of values and returns
+colours of shape ``values.shape + (3,)``.
+"""
+
+import enum
+
+import numpy as np
+
+__all__ = [
+    "h",
+    "f1",
+    "f2",
+    "f3",
+    "symmetric",
+    "percentile",
+    "signed_log",
+    "dill",
+    "DILL_COLORS",
+    "DILL_RANGE",
+    "COLOR_MAPS",
+    "apply",
+    "ZERO_TOL",
+    "ColorMap",
+    "colors_for",
+]
+
+#: Default tolerance below which a value counts as zero in :func:`f3`.
+ZERO_TOL = 1e-9
+
+#: Dill's colours, from the lowest band to the highest (figure 6).
+DILL_COLORS = np.array(
+    [
+        [0.0, 0.0, 1.0],  # blue
+        [0.0, 1.0, 1.0],  # turquoise
+        [0.0, 1.0, 0.0],  # green
+        [1.0, 1.0, 0.0],  # yellow
+        [1.0, 0.0, 0.0],  # red
+    ]
+)
+#: Dill's default curvature range, five bands of width 0.02.
+DILL_RANGE = (-0.07, 0.03)
+
+
+def _values(x, name="values"):
+    x = np.asarray(x, dtype=float)
+    if np.any(np.isnan(x)):
+        raise ValueError(f"{name} contain NaN; colour maps need finite numbers (check the 'degenerate' mask)")
+    return x
+
+
+def h(x):
+    r"""The practical's colour ramp :math:`h: [0,1] \to [0,1]^3` (blue → green → red).
+
+    Parameters
+    ----------
+    x : array_like
+        Values in [0, 1].
+
+    Returns
+    -------
+    ndarray, shape ``x.shape + (3,)``
+    """
+    x = _values(x)
+    if x.size and (x.min() < -1e-12 or x.max() > 1 + 1e-12):
+        raise ValueError(f"h expects values in [0, 1]; got values in [{x.min():g}, {x.max():g}]")
+    x = np.clip(x, 0.0, 1.0)
+    r = np.clip(4.0 * x - 2.0, 0.0, 1.0)
+    g = np.where(x <= 0.25, 4.0 * x, np.where(x <= 0.75, 1.0, 4.0 - 4.0 * x))
+    b = np.clip(2.0 - 4.0 * x, 0.0, 1.0)
+    return np.stack([r, g, b], axis=-1)
+
+
+def f1(x):
+    """Cut: values below 0 become 0, above 1 become 1, others stay.
+
+    Pros: absolute, so colours of different surfaces compare; no parameters.
+    Cons: only curvature in [0, 1] is resolved, which depends on the units of
+    the model; everything negative is the same blue.
+    """
+    return np.clip(_values(x), 0.0, 1.0)
+
+
+def f2(x, vmin=None, vmax=None, *, atol=0.0, rtol=1e-9):
+    r"""Linear: :math:`(x - \kappa_{min}) / (\kappa_{max} - \kappa_{min})`, min/max over all values.
+
+    When all values are equal (a plane, a sphere) the quotient is 0/0; the
+    result is then 0.5 (green) everywhere.  Values that differ only by
+    rounding noise, ``max - min <= max(atol, rtol * max|x|)``, count as equal
+    too, so a sphere is not painted with its rounding errors.
+
+    Pros: uses the whole colour range for any surface.
+    Cons: one outlier (a near-degenerate point) squeezes all other colours
+    together; the colour of zero curvature moves from surface to surface, so
+    the sign cannot be read off.
+    """
+    x = _values(x)
+    lo = np.min(x) if vmin is None else float(vmin)
+    hi = np.max(x) if vmax is None else float(vmax)
+    if hi < lo:
+        raise ValueError(f"f2 needs vmin <= vmax; got vmin={lo:g}, vmax={hi:g}")
+    if hi - lo <= max(atol, rtol * max(abs(lo), abs(hi))):
+        return np.full(x.shape, 0.5)
+    return np.clip((x - lo) / (hi - lo), 0.0, 1.0)
+
+
+def f3(x, tol=ZERO_TOL):
+    """Classification: 0 for ``x < -tol``, 0.5 for ``|x| <= tol``, 1 for ``x > tol``.
+
+    Applied to the Gaussian curvature it paints hyperbolic points blue,
+    parabolic and flat points green and elliptic points red (practical 2.4).
+    The tolerance matters: computed curvature of a cylinder is rounding noise
+    around 0, never exactly 0.
+
+    Pros: shows the shape class at a glance, independent of scale.
+    Cons: no magnitude at all; parabolic lines are thin and may fall between vertices.
+    """
+    x = _values(x)
+    if tol < 0:
+        raise ValueError(f"tol must be >= 0; got {tol}")
+    return np.where(x > tol, 1.0, np.where(x < -tol, 0.0, 0.5))
+
+
+def symmetric(x, vmax=None):
+    """Zero-centred linear map: ``0.5 + x / (2 max|x|)``, so zero curvature is always green.
+
+    Pros: the sign is readable (blue < 0 < red) and magnitudes are linear.
+    Cons: a surface whose curvature is all of one sign uses only half the ramp.
+    """
+    x = _values(x)
+    m = np.max(np.abs(x)) if vmax is None else float(vmax)
+    if m <= 0:
+        return np.full(x.shape, 0.5)
+    return np.clip(0.5 + 0.5 * x / m, 0.0, 1.0)
+
+
+def percentile(x, lower=2.0, upper=98.0):
+    """Robust linear map: f2 between the ``lower`` and ``upper`` percentiles, values beyond are cut.
+
+    Pros: a few extreme values (near a degenerate point, a tiny crease) no
+    longer wash out the rest of the surface.
+    Cons: the extreme values themselves are not distinguished; the range
+    depends on the sampling density.
+    """
+    x = _values(x)
+    if not 0 <= lower < upper <= 100:
+        raise ValueError(f"percentiles must satisfy 0 <= lower < upper <= 100; got {lower}, {upper}")
+    lo, hi = np.percentile(x, [lower, upper])
+    return f2(x, lo, hi)
+
+
+def signed_log(x, scale=None):
+    r"""Signed logarithmic map :math:`0.5 + 0.5\,\mathrm{sign}(x)\log(1+|x|/s)/\log(1+M/s)`.
+
+    ``s`` (default: the median of ``|x|``) sets where the map turns from
+    linear to logarithmic; ``M = max|x|``.
+
+    Pros: small and large curvatures are both visible; the sign stays readable.
+    Cons: magnitudes are no longer proportional to colour distances.
+    """
+    x = _values(x)
+    a = np.abs(x)
+    M = np.max(a) if a.size else 0.0
+    if M <= 0:
+        return np.full(x.shape, 0.5)
+    s = float(np.median(a)) if scale is None else float(scale)
+    if s <= 0:
+        s = M * 1e-3
+    return 0.5 + 0.5 * np.sign(x) * np.log1p(a / s) / np.log1p(M / s)
+
+
+def dill(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
+    """Dill's five-band colour table (1981, figure 6): five equal intervals of ``[vmin, vmax]``.
+
+    From low to high: blue, turquoise, green, yellow, red; values outside the
+    range take the colour of the nearest band.  The default range -0.07 …
+    0.03 is Dill's (bands of width 0.02, yellow around zero).
+
+    Pros: a "school grade" reading (Dill): bands are easy to name and compare.
+    Cons: the range must be chosen per surface, and variation inside a band is invisible.
+
+    Returns
+    -------
+    ndarray, shape ``x.shape + (3,)``
+    """
+    x = _values(x)
+    if not vmin < vmax:
+        raise ValueError(f"dill needs vmin < vmax; got vmin={vmin:g}, vmax={vmax:g}")
+    band = np.floor(5.0 * (x - vmin) / (vmax - vmin)).astype(int)
+    return DILL_COLORS[np.clip(band, 0, 4)]
+
+
+#: Colour maps by name: each takes values (and keyword options) and returns RGB.
+COLOR_MAPS = {
+    "linear": lambda x, **kw: h(f2(x, **kw)),
+    "cut": lambda x, **kw: h(f1(x, **kw)),
+    "classification": lambda x, **kw: h(f3(x, **kw)),
+    "dill": dill,
+    "symmetric": lambda x, **kw: h(symmetric(x, **kw)),
+    "percentile": lambda x, **kw: h(percentile(x, **kw)),
+    "signed-log": lambda x, **kw: h(signed_log(x, **kw)),
+}
+
+
+def apply(name, values, **options):
+    """Colours of ``values`` under the colour map called ``name`` (a key of :data:`COLOR_MAPS`)."""
+    if name not in COLOR_MAPS:
+        raise ValueError(f"unknown colour map {name!r}; expected one of {', '.join(COLOR_MAPS)}")
+    return COLOR_MAPS[name](values, **options)
+
+
+class ColorMap(str, enum.Enum):
+    """The practical's colour maps (section 4); other names of :data:`lab.colormaps.COLOR_MAPS` work too."""
+
+    LINEAR = "linear"  #: h ∘ f2
+    CUT = "cut"  #: h ∘ f1
+    CLASSIFICATION = "classification"  #: h ∘ f3
+
+
+def colors_for(values, color_map, *, tol=ZERO_TOL, **options):
+    """RGB colours for curvature ``values`` under ``color_map``; non-finite values become grey.
+
+    ``tol`` is the size below which a value (or, for f2, the spread of the
+    values) is rounding noise: f3 paints such values as zero and f2 paints
+    such a spread as one colour.  Values without a finite limit at degenerate
+    points (NaN) are painted mid-grey and excluded from the min/max.
+    """
+    name = color_map.value if isinstance(color_map, ColorMap) else color_map
+    values = np.asarray(values, dtype=float)
+    finite = np.isfinite(values)
+    out = np.full(values.shape + (3,), 0.5)
+    if name == "classification":
+        options.setdefault("tol", tol)
+    elif name == "linear":
+        options.setdefault("atol", tol)
+    if np.any(finite):
+        out[finite] = apply(name, values[finite], **options)
+    return out

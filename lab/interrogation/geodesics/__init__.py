@@ -1,0 +1,26 @@
+"""Geodesics, normal sections and polar isodistance curves on a surface (Puig-Pey, Gálvez, Iglesias, ``seeds/003``).
+
+``problem`` (the ODEs and the patch-wise surface) → ``integrator`` (solve_ivp, vectorised DOP853) → ``paths``
+(paths and fans) → ``isodistance``, ``shortest``.  May import numpy, scipy, lab.geometry and lab.model.
+"""
+
+from .isodistance import Isodistance, polar_isodistance
+from .paths import Fan, Path, geodesic, geodesic_fan, normal_section, normal_section_fan
+from .problem import ATOL, RTOL, christoffel, start_direction
+from .shortest import geodesic_between
+
+__all__ = [
+    "ATOL",
+    "RTOL",
+    "Fan",
+    "Isodistance",
+    "Path",
+    "christoffel",
+    "geodesic",
+    "geodesic_between",
+    "geodesic_fan",
+    "normal_section",
+    "normal_section_fan",
+    "polar_isodistance",
+    "start_direction",
+]

@@ -1,0 +1,302 @@
+"""Integrators for the path ODEs: one path with ``solve_ivp``, many with a vectorised DOP853 stepper.
+
+:func:`_integrate_fan` advances all paths of a fan together, each with the
+step decisions ``solve_ivp(method="DOP853")`` would make for it alone
+(Hairer, Nørsett, Wanner II.4-II.6), restarting paths at patch edges.
+"""
+
+import numpy as np
+from scipy.integrate import DOP853, solve_ivp
+from scipy.optimize import brentq
+
+from .problem import _BOUNDARY, _DEGENERATE, _EPS, _fmt
+
+# --------------------------------------------------------------------------- dense output
+
+
+class _Pieces:
+    """Continuous state of one path: DOP853 interpolants of its steps (same polynomial as scipy's ``Dop853DenseOutput``)."""
+
+    def __init__(self, t_old, t_hi, h, y_old, F):
+        self.t_old, self.t_hi, self.h, self.y_old, self.F = t_old, t_hi, h, y_old, F
+
+    def __call__(self, s):
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        i = np.clip(np.searchsorted(self.t_hi, s, side="left"), 0, len(self.t_hi) - 1)
+        return _dop853_poly((s - self.t_old[i]) / self.h[i], self.y_old[i], self.F[i])
+
+
+def _dop853_poly(x, y_old, F):
+    """Evaluate DOP853 dense-output polynomials: x (q,), y_old (q, m), F (q, 7, m)."""
+    x = x[:, None]
+    y = np.zeros_like(y_old)
+    for i in range(F.shape[1] - 1, -1, -1):
+        y = y + F[:, i]
+        y = y * (x if (F.shape[1] - 1 - i) % 2 == 0 else (1 - x))
+    return y + y_old
+
+
+class _Segments:
+    """Continuous state of one path from consecutive ``solve_ivp`` solutions (one per patch)."""
+
+    def __init__(self, ends, solutions):
+        self.ends = np.asarray(ends)
+        self.solutions = solutions
+
+    def __call__(self, s):
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        i = np.clip(np.searchsorted(self.ends, s, side="left"), 0, len(self.ends) - 1)
+        out = None
+        for k in np.unique(i):
+            sel = i == k
+            values = self.solutions[k](s[sel]).T
+            if out is None:
+                out = np.empty((len(s), values.shape[1]))
+            out[sel] = values
+        return out
+
+
+# --------------------------------------------------------------------------- one path: solve_ivp
+
+
+def _solve_one(problem, y0, cell0, length, D, rtol, atol, method):
+    """Integrate one path with solve_ivp, restarting at every patch edge (terminal event)."""
+    t0, y, cell = 0.0, np.asarray(y0, dtype=float), np.asarray(cell0)[None]
+    Drow = None if D is None else D[None]
+    ends, sols, first_step, stop = [], [], None, 0
+    while True:
+
+        def fun(t, yy, cell=cell):
+            return problem.rhs(yy[None], cell, Drow)[0]
+
+        def gap(t, yy, cell=cell):
+            return problem.gap(yy[None], cell)[0]
+
+        def regular(t, yy, cell=cell):
+            return problem.regular(yy[None], cell)[0]
+
+        for event in (gap, regular):
+            event.terminal, event.direction = True, -1
+        res = solve_ivp(fun, (t0, length), y, method=method, rtol=rtol, atol=atol, events=(gap, regular),
+                        dense_output=True, first_step=first_step)
+        if res.status == -1:
+            raise RuntimeError(
+                f"{problem.kind} integration failed at s = {res.t[-1]:.6g} near (u, v) = "
+                f"{_fmt(problem.wrap(res.y[:2, -1]))}: {res.message}"
+            )
+        sols.append(res.sol)
+        if res.status == 0:
+            ends.append(length)
+            break
+        if res.t_events[1].size:  # the earlier of the two terminal events is recorded
+            ends.append(float(res.t_events[1][0]))
+            stop = _DEGENERATE
+            break
+        t0, y = float(res.t_events[0][0]), res.y_events[0][0]
+        ends.append(t0)
+        cell, leaves = problem.cross(y[None], cell)
+        if leaves[0]:
+            stop = _BOUNDARY
+            break
+        if t0 >= length:
+            break
+        last = res.sol.interpolants[-1]
+        first_step = min(abs(last.t - last.t_old), length - t0)
+    return _Segments(ends, sols), ends[-1], stop
+
+
+# --------------------------------------------------------------------------- many paths: vectorised DOP853
+
+
+_A, _B, _C = DOP853.A, DOP853.B, DOP853.C
+_E3, _E5, _Dd = DOP853.E3, DOP853.E5, DOP853.D
+_A_EXTRA, _C_EXTRA = DOP853.A_EXTRA, DOP853.C_EXTRA
+_N_STAGES = DOP853.n_stages
+_ERR_EXP = -1.0 / (DOP853.error_estimator_order + 1)
+_SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
+
+
+def _rms(x):
+    return np.sqrt(np.mean(x * x, axis=1))
+
+
+def _initial_step(problem, y0, cell, f0, length, D, rtol, atol):
+    """:func:`scipy.integrate._ivp.common.select_initial_step` (Hairer, Nørsett, Wanner II.4) for every path at once.
+
+    ``length`` (n,) is each path's interval of integration.
+    """
+    scale = atol + np.abs(y0) * rtol
+    d0, d1 = _rms(y0 / scale), _rms(f0 / scale)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        h0 = np.where((d0 < 1e-5) | (d1 < 1e-5), 1e-6, 0.01 * d0 / d1)
+    h0 = np.minimum(h0, length)
+    f1 = problem.rhs(y0 + h0[:, None] * f0, cell, D)
+    d2 = _rms((f1 - f0) / scale) / h0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        h1 = np.where((d1 <= 1e-15) & (d2 <= 1e-15), np.maximum(1e-6, h0 * 1e-3),
+                      (0.01 / np.maximum(d1, d2)) ** (1.0 / (DOP853.error_estimator_order + 1)))
+    return np.minimum(np.minimum(100 * h0, h1), length)
+
+
+def _integrate_fan(problem, y0, cell0, length, D, rtol, atol):
+    """Integrate n paths together; each makes the step decisions ``solve_ivp(method="DOP853")`` makes for it alone.
+
+    Every iteration attempts one step for every unfinished path, each with its
+    own step size: the 12 stages (plus 3 for the dense output of the accepted
+    steps) are evaluated for all of them at once.  Accepted steps are checked
+    for a patch-edge crossing (event function :meth:`_Problem.gap`) or the
+    approach of a degenerate point (:meth:`_Problem.regular`), roots by
+    Brent's method on the dense output, as solve_ivp does.  A path that
+    crosses an edge continues from the crossing point in the neighbouring
+    patch, or stops if the edge is the domain boundary.
+
+    Parameters
+    ----------
+    problem : _Problem
+    y0 : (n, m) ndarray
+        Initial states.
+    cell0 : (n, 2) int ndarray
+        Initial cells (:meth:`_Problem.locate`).
+    length : float or (n,) array_like
+        Arc length to integrate, per path.
+    D : (n, 3) ndarray or None
+        Plane normals of normal sections.
+    rtol, atol : float
+
+    Returns
+    -------
+    pieces : list of _Pieces
+    ends : (n,) ndarray
+        Arc length reached by each path.
+    stops : (n,) int ndarray
+        Why each path ended: 0 (its length), ``_BOUNDARY`` or ``_DEGENERATE``.
+    """
+    n, m = y0.shape
+    length = np.broadcast_to(np.asarray(length, dtype=float), (n,)).copy()
+    t = np.zeros(n)
+    y = y0.astype(float).copy()
+    cell = cell0.copy()
+    f, g2 = problem.rhs(y, cell, D, regular=True)
+    h_abs = _initial_step(problem, y, cell, f, length, D, rtol, atol)
+    g1 = problem.gap(y, cell)  # the two event functions, at the start of each path's next step
+    rejected = np.zeros(n, dtype=bool)
+    active = np.ones(n, dtype=bool)
+    stops = np.zeros(n, dtype=int)
+    ends = length.copy()
+    store = [[] for _ in range(n)]  # per path: (t_old, t_hi, h, y_old, F)
+    while np.any(active):
+        idx = np.flatnonzero(active)
+        ti, yi, fi, ci = t[idx], y[idx], f[idx], cell[idx]
+        Dk = None if D is None else D[idx]
+        min_step = 10 * np.abs(np.nextafter(ti, np.inf) - ti)
+        ha = np.where(rejected[idx], h_abs[idx], np.maximum(h_abs[idx], min_step))
+        too_small = ha < min_step
+        if np.any(too_small):
+            j = idx[np.flatnonzero(too_small)[0]]
+            raise RuntimeError(
+                f"{problem.kind} integration failed at s = {t[j]:.6g} near (u, v) = {_fmt(problem.wrap(y[j, :2]))}: "
+                "Required step size is less than spacing between numbers."
+            )
+        Li = length[idx]
+        t_new = np.minimum(ti + ha, Li)
+        h = t_new - ti
+        ha = np.abs(h)
+        K = np.empty((_N_STAGES + 1, len(idx), m))
+        K[0] = fi
+        for s in range(1, _N_STAGES):
+            dy = np.einsum("skm,s->km", K[:s], _A[s, :s]) * h[:, None]
+            K[s] = problem.rhs(yi + dy, ci, Dk)
+        y_new = yi + h[:, None] * np.einsum("skm,s->km", K[:-1], _B)
+        f_new, g2_new = problem.rhs(y_new, ci, Dk, regular=True)
+        K[-1] = f_new
+        scale = atol + np.maximum(np.abs(yi), np.abs(y_new)) * rtol
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            e5 = np.sum((np.einsum("skm,s->km", K, _E5) / scale) ** 2, axis=1)
+            e3 = np.sum((np.einsum("skm,s->km", K, _E3) / scale) ** 2, axis=1)
+            err = np.where((e5 == 0) & (e3 == 0), 0.0, ha * e5 / np.sqrt((e5 + 0.01 * e3) * m))
+            grow = _SAFETY * err**_ERR_EXP
+        ok = err < 1
+        factor = np.where(err == 0, _MAX_FACTOR, np.minimum(_MAX_FACTOR, grow))
+        factor = np.where(rejected[idx], np.minimum(1.0, factor), factor)
+        shrink = np.where(np.isnan(grow), _MIN_FACTOR, np.maximum(_MIN_FACTOR, grow))
+        h_abs[idx] = np.where(ok, ha * factor, ha * shrink)
+        rejected[idx] = ~ok
+        if not np.any(ok):
+            continue
+        # accepted steps: dense output (3 extra stages), then events
+        a = np.flatnonzero(ok)
+        ia, ha_, ya_old, ya_new, ca = idx[a], h[a], yi[a], y_new[a], ci[a]
+        Da = None if D is None else Dk[a]
+        Kx = np.empty((_N_STAGES + 4, len(a), m))
+        Kx[: _N_STAGES + 1] = K[:, a]
+        for s, (arow, c) in enumerate(zip(_A_EXTRA, _C_EXTRA), start=_N_STAGES + 1):
+            dy = np.einsum("skm,s->km", Kx[:s], arow[:s]) * ha_[:, None]
+            Kx[s] = problem.rhs(ya_old + dy, ca, Da)
+        delta = ya_new - ya_old
+        F = np.empty((len(a), 7, m))
+        F[:, 0] = delta
+        F[:, 1] = ha_[:, None] * K[0, a] - delta
+        F[:, 2] = 2 * delta - ha_[:, None] * (K[-1, a] + K[0, a])
+        F[:, 3:] = ha_[:, None, None] * np.einsum("ps,skm->kpm", _Dd, Kx)
+        # events as solve_ivp finds them: a sign change from >= 0 to <= 0 over the step (direction -1),
+        # its root by Brent's method on the dense output; the earlier of the two terminates the path
+        g1_new, g2_new = problem.gap(ya_new, ca), g2_new[a]
+        hit1 = (g1[ia] >= 0) & (g1_new <= 0)
+        hit2 = (g2[ia] >= 0) & (g2_new <= 0)
+        t_old = ti[a]
+        t_hi = t_new[a].copy()
+        degenerate = np.zeros(len(a), dtype=bool)
+        for r in np.flatnonzero(hit1 | hit2):
+            j = ia[r]
+
+            def state_at(tt, t0=t_old[r], h=ha_[r], y0=ya_old[r : r + 1], Fr=F[r : r + 1]):
+                return _dop853_poly(np.array([(tt - t0) / h]), y0, Fr)
+
+            roots = [np.inf, np.inf]
+            for e, (hit, func) in enumerate(((hit1, problem.gap), (hit2, problem.regular))):
+                if hit[r]:
+                    roots[e] = brentq(lambda tt, func=func, j=j: func(state_at(tt), cell[j : j + 1])[0],
+                                      t_old[r], t_hi[r], xtol=4 * _EPS, rtol=4 * _EPS)
+            degenerate[r] = roots[1] <= roots[0]
+            t_hi[r] = min(roots)
+        crossed = hit1 | hit2
+        for r, j in enumerate(ia):
+            store[j].append((t_old[r], t_hi[r], ha_[r], ya_old[r], F[r]))
+        # paths without events: advance
+        plain = ~crossed
+        jp = ia[plain]
+        t[jp], y[jp], f[jp] = t_new[a][plain], ya_new[plain], K[-1, a][plain]
+        g1[jp], g2[jp] = g1_new[plain], g2_new[plain]
+        done = jp[t[jp] >= length[jp]]
+        active[done] = False
+        # paths at a degenerate point stop there
+        jd = ia[degenerate]
+        ends[jd], stops[jd], active[jd] = t_hi[degenerate], _DEGENERATE, False
+        # paths that crossed a patch edge: restart in the neighbour (or stop at the boundary)
+        edge = crossed & ~degenerate
+        if np.any(edge):
+            rc = np.flatnonzero(edge)
+            jc = ia[rc]
+            yc = _dop853_poly((t_hi[rc] - t_old[rc]) / ha_[rc], ya_old[rc], F[rc])
+            new_cell, leaves = problem.cross(yc, cell[jc])
+            stop = leaves | (t_hi[rc] >= length[jc])
+            ends[jc[stop]] = t_hi[rc][stop]
+            stops[jc[leaves]] = _BOUNDARY
+            active[jc[stop]] = False
+            go = ~stop
+            if np.any(go):
+                jg = jc[go]
+                t[jg], y[jg], cell[jg] = t_hi[rc][go], yc[go], new_cell[go]
+                Dg = None if D is None else D[jg]
+                f[jg], g2[jg] = problem.rhs(y[jg], cell[jg], Dg, regular=True)
+                g1[jg] = problem.gap(y[jg], cell[jg])
+                # as a restarted solve_ivp with first_step = the step just taken
+                h_abs[jg] = np.minimum(ha_[rc][go], length[jg] - t[jg])
+                rejected[jg] = False
+    pieces = []
+    for j in range(n):
+        cols = list(zip(*store[j]))
+        pieces.append(_Pieces(*(np.array(c) for c in cols)))
+    return pieces, ends, stops
+
+

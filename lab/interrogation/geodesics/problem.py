@@ -1,0 +1,460 @@
+"""Geodesics and normal sections as ODEs in the parameter domain (``seeds/003`` eqs. 7, 9-16), patch by patch.
+
+The right-hand sides (eq. 11 with the Christoffel symbols, eq. 7 for normal
+sections), the start direction of angle α (eqs. 9, 10, 14-16), and
+:class:`_Problem`: a surface prepared for integration (its Bézier patches as
+polynomials, cells, periodic wrap, event functions, crossings).  Also the
+input checks shared by the entry points.
+"""
+
+import numpy as np
+
+from ...geometry import bezier
+from ...geometry.curvature import unit_normal
+from ...geometry.derivatives import Derivatives, from_homogeneous
+from ...model.surface import BezierSurface, BSplineSurface, Surface
+
+__all__ = ["ATOL", "RTOL", "christoffel", "start_direction"]
+
+#: Default relative and absolute tolerances of the ODE solver (per path, as in solve_ivp).
+RTOL = 1e-10
+ATOL = 1e-12
+
+GEODESIC = "geodesic"
+NORMAL_SECTION = "normal section"
+
+#: A patch edge counts as crossed once a path is this far (relative to the patch width) beyond it.
+#: The margin keeps a path that starts on, or runs along, a knot line from triggering a crossing.
+_CROSS_MARGIN = 1e-12
+#: A path stops where |b_u x b_v| / (E + G) falls below this (just before a degenerate point).
+_DEGENERATE_STOP = 1e-6
+_EPS = np.finfo(float).eps
+#: Why a path ended (besides reaching its length).
+_BOUNDARY, _DEGENERATE = 1, 2
+_ENDS = {0: "length", _BOUNDARY: "boundary", _DEGENERATE: "degenerate"}
+
+
+# --------------------------------------------------------------------------- differential geometry
+
+
+def _dot(a, b):
+    return np.einsum("...i,...i->...", a, b)
+
+
+def christoffel(d):
+    r"""Christoffel symbols of the second kind from exact first and second derivatives.
+
+    With :math:`E_u = 2\,\mathbf x_u\cdot\mathbf x_{uu}`,
+    :math:`E_v = 2\,\mathbf x_u\cdot\mathbf x_{uv}`,
+    :math:`F_u = \mathbf x_{uu}\cdot\mathbf x_v + \mathbf x_u\cdot\mathbf x_{uv}`,
+    :math:`F_v = \mathbf x_{uv}\cdot\mathbf x_v + \mathbf x_u\cdot\mathbf x_{vv}`,
+    :math:`G_u = 2\,\mathbf x_v\cdot\mathbf x_{uv}`,
+    :math:`G_v = 2\,\mathbf x_v\cdot\mathbf x_{vv}` and
+    :math:`\Delta = 2(EG - F^2)` (Struik, *Lectures on Classical Differential
+    Geometry*, chapter 4, the reference [18] that ``seeds/003`` gives for eq. 11):
+
+    .. math::
+
+        \Gamma^1_{11} &= (G E_u - 2F F_u + F E_v)/\Delta, &
+        \Gamma^2_{11} &= (2E F_u - E E_v - F E_u)/\Delta,\\
+        \Gamma^1_{12} &= (G E_v - F G_u)/\Delta, &
+        \Gamma^2_{12} &= (E G_u - F E_v)/\Delta,\\
+        \Gamma^1_{22} &= (2G F_v - G G_u - F G_v)/\Delta, &
+        \Gamma^2_{22} &= (E G_v - 2F F_v + F G_u)/\Delta.
+
+    Parameters
+    ----------
+    d : Derivatives
+        Fields ``bu, bv, buu, buv, bvv`` of shape ``S + (3,)`` (``b`` is not used).
+
+    Returns
+    -------
+    Gamma : ndarray, shape ``S + (2, 2, 2)``
+        ``Gamma[..., k, i, j]`` is :math:`\Gamma^{k+1}_{i+1\,j+1}` (symmetric in i, j);
+        infinite or NaN at degenerate points (EG - F² = 0).
+    """
+    g111, g112, g122, g211, g212, g222 = _christoffel_symbols(d)
+    first = np.stack([np.stack([g111, g112], -1), np.stack([g112, g122], -1)], -2)
+    second = np.stack([np.stack([g211, g212], -1), np.stack([g212, g222], -1)], -2)
+    return np.stack([first, second], -3)
+
+
+def _christoffel_symbols(d):
+    """The six distinct symbols Γ¹₁₁, Γ¹₁₂, Γ¹₂₂, Γ²₁₁, Γ²₁₂, Γ²₂₂ (see :func:`christoffel`)."""
+    V = np.stack(np.broadcast_arrays(d.bu, d.bv, d.buu, d.buv, d.bvv), axis=-2)  # (..., 5, 3)
+    M = np.einsum("...id,...jd->...ij", V, V)  # all dot products at once
+    E, F, G = M[..., 0, 0], M[..., 0, 1], M[..., 1, 1]
+    Eu, Ev = 2 * M[..., 0, 2], 2 * M[..., 0, 3]
+    Fu, Fv = M[..., 2, 1] + M[..., 0, 3], M[..., 3, 1] + M[..., 0, 4]
+    Gu, Gv = 2 * M[..., 1, 3], 2 * M[..., 1, 4]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 0.5 / (E * G - F * F)
+        return (
+            (G * Eu - 2 * F * Fu + F * Ev) * inv,
+            (G * Ev - F * Gu) * inv,
+            (2 * G * Fv - G * Gu - F * Gv) * inv,
+            (2 * E * Fu - E * Ev - F * Eu) * inv,
+            (E * Gu - F * Ev) * inv,
+            (E * Gv - 2 * F * Fv + F * Gu) * inv,
+        )
+
+
+def _frame(d):
+    r"""The orthonormal frame :math:`\mathbf x_v/|\mathbf x_v|,\ \mathbf x_v^\perp/|\mathbf x_v^\perp|` (eqs. 9, 10)
+    and the coefficients that express it in the basis :math:`\mathbf x_u, \mathbf x_v` (eq. 15)."""
+    E, F, G = _dot(d.bu, d.bu), _dot(d.bu, d.bv), _dot(d.bv, d.bv)
+    norm_v = np.sqrt(G)
+    norm_perp = np.sqrt(G * (E * G - F * F))  # |-G x_u + F x_v|
+    e1 = d.bv / norm_v[..., None]
+    e2 = (-G[..., None] * d.bu + F[..., None] * d.bv) / norm_perp[..., None]
+    # e1 = 0 x_u + (1/|x_v|) x_v ;  e2 = (-G/|x_v^perp|) x_u + (F/|x_v^perp|) x_v
+    c1 = np.stack([np.zeros_like(G), 1.0 / norm_v], -1)
+    c2 = np.stack([-G / norm_perp, F / norm_perp], -1)
+    return e1, e2, c1, c2
+
+
+def start_direction(surface, uv, angle):
+    r"""Unit tangent :math:`\mathbf n` of angle α (eq. 10) and the initial values :math:`(u'(0), v'(0))`.
+
+    The angle is measured from :math:`\mathbf x_v` towards
+    :math:`\mathbf x_v^\perp = -G\mathbf x_u + F\mathbf x_v` (eq. 9).  The
+    coefficients of :math:`\mathbf n` in the basis :math:`\mathbf x_u, \mathbf x_v`
+    (eq. 15) are the arc-length derivatives of eq. 14 with
+    :math:`c = u'/v'` from eq. 16 and the sign that makes the path start along
+    :math:`+\mathbf n`; taking them from eq. 15 directly avoids the pole of
+    eq. 16 where :math:`\mathbf n \parallel \mathbf x_u`.
+
+    Parameters
+    ----------
+    surface : Surface
+    uv : (float, float)
+        A regular point of the domain.
+    angle : array_like
+        Angles α in radians.
+
+    Returns
+    -------
+    n : ndarray, shape ``angle.shape + (3,)``
+    duv : ndarray, shape ``angle.shape + (2,)``
+        ``(u'(0), v'(0))`` with :math:`E u'^2 + 2F u'v' + G v'^2 = 1`.
+    """
+    surface = _check_surface(surface)
+    u0, v0 = _check_point(surface, uv, "start point")
+    alpha = _as_angles(angle)
+    d = _regular_derivatives(surface, u0, v0, "start point")
+    n, duv = _direction(d, alpha.ravel())
+    return n.reshape(alpha.shape + (3,)), duv.reshape(alpha.shape + (2,))
+
+
+def _direction(d, alpha):
+    e1, e2, c1, c2 = _frame(d)
+    ca, sa = np.cos(alpha)[..., None], np.sin(alpha)[..., None]
+    return ca * e1 + sa * e2, ca * c1 + sa * c2
+
+
+def _geodesic_rhs(d, y):
+    """Eq. 11 for states ``y = (u, v, u', v')`` of shape (k, 4) with derivatives d at (u, v)."""
+    g111, g112, g122, g211, g212, g222 = _christoffel_symbols(d)
+    p, q = y[:, 2], y[:, 3]
+    pp, pq, qq = p * p, 2 * p * q, q * q
+    out = np.empty_like(y)
+    out[:, :2] = y[:, 2:4]
+    out[:, 2] = -(g111 * pp + g112 * pq + g122 * qq)
+    out[:, 3] = -(g211 * pp + g212 * pq + g222 * qq)
+    return out
+
+
+def _section_rhs(d, D):
+    r"""Eq. 7 with the + sign: :math:`(u', v') = (\mathbf x_v\cdot\mathbf D, -\mathbf x_u\cdot\mathbf D)/W`.
+
+    The tangent :math:`(\mathbf x_v\cdot\mathbf D)\mathbf x_u - (\mathbf x_u\cdot\mathbf D)\mathbf x_v
+    = \mathbf D\times(\mathbf x_u\times\mathbf x_v)` equals
+    :math:`|\mathbf x_u\times\mathbf x_v|\,\mathbf n` at the start point (where
+    :math:`\mathbf D = \mathbf N\times\mathbf n`), so this sign starts the section along +n.
+    """
+    a, b = _dot(d.bu, D), _dot(d.bv, D)
+    E, F, G = _dot(d.bu, d.bu), _dot(d.bu, d.bv), _dot(d.bv, d.bv)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        W = np.sqrt(E * b * b - 2 * F * a * b + G * a * a)
+        return np.stack([b / W, -a / W], axis=1)
+
+
+def _regularity(d):
+    """|b_u x b_v| / (E + G): 1/2 for an orthonormal parametrisation, 0 at a degenerate point."""
+    return np.linalg.norm(np.cross(d.bu, d.bv), axis=-1) / (_dot(d.bu, d.bu) + _dot(d.bv, d.bv))
+
+
+# --------------------------------------------------------------------------- the surface, patch by patch
+
+
+class _PatchEvaluator:
+    """Derivatives of the Bézier patches of a (rational) B-spline surface at local parameters, extended beyond [0, 1].
+
+    Built from :meth:`lab.BSplineSurface.bezier_nets` (or the one net of a
+    :class:`lab.BezierSurface`).  Each patch is converted once from the
+    Bernstein to the monomial basis in its local parameters ``(s, t)``, so that
+    all six fields ``b, bu, bv, buu, buv, bvv`` come from one tensor
+    contraction; being a polynomial (in homogeneous coordinates), a patch
+    continues smoothly a little outside its span.  Chain rule: ``d/du = (1/h_u) d/ds``.
+    """
+
+    def __init__(self, nets, weights, widths_u, widths_v):
+        Pw = bezier.homogeneous(nets, weights)
+        self.rational = weights is not None
+        p, q = Pw.shape[-3] - 1, Pw.shape[-2] - 1
+        self.coeffs = np.einsum("ik,jl,...ijd->...kld", _bernstein_to_monomial(p), _bernstein_to_monomial(q), Pw)
+        self.powers = (np.arange(p + 1), np.arange(q + 1))
+        self.inv_widths = (1.0 / widths_u, 1.0 / widths_v)
+
+    @staticmethod
+    def _basis(x, k, inv_width):
+        """Rows (x^k, d/du x^k, d²/du² x^k) for local parameters x: shape (n, 3, len(k))."""
+        x = x[:, None]
+        out = np.zeros((len(x), 3, len(k)))
+        out[:, 0] = x**k
+        out[:, 1, 1:] = k[1:] * out[:, 0, :-1] * inv_width[:, None]
+        out[:, 2, 2:] = k[2:] * (k[2:] - 1) * out[:, 0, :-2] * (inv_width**2)[:, None]
+        return out
+
+    def __call__(self, iu, iv, su, sv):
+        Su = self._basis(su, self.powers[0], self.inv_widths[0][iu])
+        Sv = self._basis(sv, self.powers[1], self.inv_widths[1][iv])
+        X = np.einsum("kai,kbj,kijd->kabd", Su, Sv, self.coeffs[iu, iv])
+        d = Derivatives(X[:, 0, 0], X[:, 1, 0], X[:, 0, 1], X[:, 2, 0], X[:, 1, 1], X[:, 0, 2])
+        return from_homogeneous(d) if self.rational else d
+
+
+def _bernstein_to_monomial(n):
+    """Matrix M with B_i^n(t) = sum_k M[i, k] t^k."""
+    from math import comb
+
+    M = np.zeros((n + 1, n + 1))
+    for i in range(n + 1):
+        for k in range(i, n + 1):
+            M[i, k] = comb(n, i) * comb(n - i, k - i) * (-1) ** (k - i)
+    return M
+
+
+class _Problem:
+    """A surface prepared for path integration: patch structure, periodicity, right-hand sides and events.
+
+    Cells are patches (knot spans) indexed by integers per direction; in a
+    periodic direction the index runs over all integers, cell ``c`` being span
+    ``c mod S`` shifted by ``(c // S)`` periods, so that unwrapped parameters
+    and the patch polynomials stay continuous around the surface.
+    """
+
+    def __init__(self, surface, kind):
+        self.surface = surface
+        self.kind = kind
+        self.m = 4 if kind == GEODESIC else 2
+        (u0, u1), (v0, v1) = surface.domain
+        self.lo = np.array([u0, v0], dtype=float)
+        self.hi = np.array([u1, v1], dtype=float)
+        self.period = self.hi - self.lo
+        self.periodic = tuple(bool(p) for p in surface.periodic)
+        self.patches = None
+        # the patch polynomials stand in for the surface only where they are its definition
+        own = type(surface)._derivatives
+        if own is BSplineSurface._derivatives:
+            nets, w, iu, iv = surface.bezier_nets()
+            self.breaks = [_breaks(iu), _breaks(iv)]
+        elif own is BezierSurface._derivatives:
+            nets = surface.control_points[None, None]
+            w = None if surface.weights is None else surface.weights[None, None]
+            self.breaks = [np.array([u0, u1]), np.array([v0, v1])]
+        else:
+            nets = None
+            self.breaks = [np.array([u0, u1]), np.array([v0, v1])]
+        if nets is not None:
+            self.patches = _PatchEvaluator(nets, w, np.diff(self.breaks[0]), np.diff(self.breaks[1]))
+        self.n_spans = np.array([len(b) - 1 for b in self.breaks])
+
+    # -- parameters and cells
+
+    def wrap(self, uv):
+        """Parameters into the domain: modulo the period in periodic directions, clipped otherwise."""
+        uv = np.array(uv, dtype=float, copy=True)
+        for axis in range(2):
+            x = uv[..., axis]
+            if self.periodic[axis]:
+                x = self.lo[axis] + np.mod(x - self.lo[axis], self.period[axis])
+            uv[..., axis] = np.clip(x, self.lo[axis], self.hi[axis])
+        return uv
+
+    def cell_bounds(self, cell):
+        """Lower and upper unwrapped parameter of each cell: two (k, 2) arrays."""
+        lower, upper = np.empty(cell.shape), np.empty(cell.shape)
+        for axis in range(2):
+            S = self.n_spans[axis]
+            c = cell[:, axis]
+            j, shift = (np.mod(c, S), np.floor_divide(c, S) * self.period[axis]) if self.periodic[axis] else (c, 0.0)
+            lower[:, axis] = self.breaks[axis][j] + shift
+            upper[:, axis] = self.breaks[axis][j + 1] + shift
+        return lower, upper
+
+    def locate(self, uv, duv):
+        """Cells holding the points ``uv`` (k, 2); on a knot line, the cell the direction ``duv`` points into."""
+        cell = np.empty(uv.shape, dtype=int)
+        for axis in range(2):
+            S, br = self.n_spans[axis], self.breaks[axis]
+            x = uv[:, axis]
+            k = np.floor((x - self.lo[axis]) / self.period[axis]) if self.periodic[axis] else np.zeros_like(x)
+            xw = x - k * self.period[axis]
+            j = np.clip(np.searchsorted(br, xw, side="right") - 1, 0, S - 1)
+            back = (xw == br[j]) & (duv[:, axis] < 0)
+            j = j - back
+            if self.periodic[axis]:
+                cell[:, axis] = (k.astype(int) * S) + j
+            else:
+                cell[:, axis] = np.maximum(j, 0)
+        return cell
+
+    def gap(self, y, cell):
+        """First event function: distance of the points to the edge of their cell, relative to its width, plus a margin.
+
+        Positive inside the cell; it becomes negative a hair (``_CROSS_MARGIN``)
+        beyond an edge, which is where the path leaves the patch.
+        """
+        lower, upper = self.cell_bounds(cell)
+        width = upper - lower
+        rel = np.minimum(y[:, :2] - lower, upper - y[:, :2]) / width
+        return rel.min(axis=1) + _CROSS_MARGIN
+
+    def regular(self, y, cell):
+        """Second event function: :func:`_regularity` minus ``_DEGENERATE_STOP``.
+
+        It becomes negative just before a degenerate point (a sphere's pole),
+        where the Christoffel symbols and eq. 7 are singular.
+        """
+        return _regularity(self.derivatives(y[:, :2], cell)) - _DEGENERATE_STOP
+
+    def cross(self, y, cell):
+        """After a gap event: the neighbouring cell across the edge crossed, and whether that edge is the domain boundary."""
+        lower, upper = self.cell_bounds(cell)
+        width = upper - lower
+        gaps = np.concatenate([(y[:, :2] - lower) / width, (upper - y[:, :2]) / width], axis=1)  # (k, 4)
+        face = np.argmin(gaps, axis=1)
+        axis, step = face % 2, np.where(face < 2, -1, 1)
+        new = cell.copy()
+        new[np.arange(len(cell)), axis] += step
+        leaves = np.zeros(len(cell), dtype=bool)
+        for a in range(2):
+            if not self.periodic[a]:
+                leaves |= (axis == a) & ((new[:, a] < 0) | (new[:, a] >= self.n_spans[a]))
+        return new, leaves
+
+    # -- evaluation
+
+    def derivatives(self, uv, cell):
+        """Surface derivatives at unwrapped parameters ``uv`` (k, 2) using the polynomial of each path's cell."""
+        bad = ~np.all(np.isfinite(uv), axis=1)
+        lower, upper = self.cell_bounds(cell)
+        if np.any(bad):  # a failing step: evaluate somewhere harmless, report NaN
+            uv = np.where(bad[:, None], 0.5 * (lower + upper), uv)
+        if self.patches is not None:
+            span = np.empty_like(cell)
+            for axis in range(2):
+                span[:, axis] = np.mod(cell[:, axis], self.n_spans[axis]) if self.periodic[axis] else cell[:, axis]
+            local = (uv - lower) / (upper - lower)
+            d = self.patches(span[:, 0], span[:, 1], local[:, 0], local[:, 1])
+        else:
+            w = self.wrap(uv)
+            d = self.surface.derivatives(w[:, 0], w[:, 1])
+        if np.any(bad):
+            d = d.map(lambda x: np.where(bad[:, None], np.nan, x))
+        return d
+
+    def rhs(self, y, cell, D=None, regular=False):
+        """Right-hand side of eq. 11 (geodesics) or eq. 7 (normal sections, plane normals ``D`` (k, 3)).
+
+        With ``regular=True`` also the second event function :meth:`regular` at the same points.
+        """
+        d = self.derivatives(y[:, :2], cell)
+        f = _geodesic_rhs(d, y) if self.kind == GEODESIC else _section_rhs(d, D)
+        return (f, _regularity(d) - _DEGENERATE_STOP) if regular else f
+
+    def tangent(self, y, D=None):
+        """``(du/ds, dv/ds)`` at states ``y`` (k, m), evaluated with the public surface derivatives."""
+        if self.kind == GEODESIC:
+            return y[:, 2:4].copy()
+        w = self.wrap(y[:, :2])
+        return _section_rhs(self.surface.derivatives(w[:, 0], w[:, 1]), D)
+
+
+def _breaks(intervals):
+    lo = np.array([a for a, _ in intervals])
+    hi = np.array([b for _, b in intervals])
+    if not np.allclose(lo[1:], hi[:-1], rtol=0, atol=1e-14 * max(1.0, abs(hi[-1]))):
+        raise ValueError(f"knot spans must be contiguous; got {intervals}")  # pragma: no cover - bezier_nets guarantees it
+    return np.concatenate([lo, hi[-1:]])
+
+
+# --------------------------------------------------------------------------- validation
+
+
+def _fmt(uv):
+    return "(" + ", ".join(f"{float(x):.6g}" for x in uv) + ")"
+
+
+def _check_surface(surface):
+    if not isinstance(surface, Surface):
+        raise TypeError(f"surface must be a lab.Surface (Bézier, B-spline or parametric); got {type(surface).__name__}")
+    return surface
+
+
+def _check_point(surface, uv, name):
+    try:
+        u, v = (float(x) for x in uv)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair of parameters (u, v); got {uv!r}") from None
+    (u0, u1), (v0, v1) = surface.domain
+    slack_u, slack_v = 1e-12 * max(1.0, u1 - u0), 1e-12 * max(1.0, v1 - v0)
+    if not (np.isfinite(u) and np.isfinite(v) and u0 - slack_u <= u <= u1 + slack_u and v0 - slack_v <= v <= v1 + slack_v):
+        raise ValueError(f"{name} must lie in the domain [{u0:g}, {u1:g}] x [{v0:g}, {v1:g}]; got (u, v) = ({u:g}, {v:g})")
+    return min(max(u, u0), u1), min(max(v, v0), v1)
+
+
+def _regular_derivatives(surface, u, v, name):
+    d = surface.derivatives(np.array([u]), np.array([v]))
+    _, degenerate = unit_normal(d.bu, d.bv)
+    if degenerate[0]:
+        raise ValueError(
+            f"{name} (u, v) = ({u:g}, {v:g}) is a degenerate point (b_u x b_v = 0): "
+            "it has no tangent plane in which to measure the angle"
+        )
+    return d
+
+
+def _as_angles(angle):
+    try:
+        alpha = np.asarray(angle, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"angle must be a number (radians); got {type(angle).__name__}") from None
+    if not np.all(np.isfinite(alpha)):
+        raise ValueError(f"angle must be finite; got {angle}")
+    return alpha
+
+
+def _check_length(length, name="length"):
+    try:
+        L = float(length)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a number; got {type(length).__name__}") from None
+    if not (np.isfinite(L) and L > 0):
+        raise ValueError(f"{name} must be a positive finite number; got {length}")
+    return L
+
+
+def _check_tolerances(rtol, atol):
+    try:
+        rtol, atol = float(rtol), float(atol)
+    except (TypeError, ValueError):
+        raise TypeError(f"rtol and atol must be numbers; got {type(rtol).__name__} and {type(atol).__name__}") from None
+    if not (np.isfinite(rtol) and rtol >= 100 * _EPS):
+        raise ValueError(f"rtol must be a finite number >= 100 * machine epsilon ({100 * _EPS:.3g}); got {rtol}")
+    if not (np.isfinite(atol) and atol > 0):
+        raise ValueError(f"atol must be a positive finite number; got {atol}")
+    return rtol, atol
+
+

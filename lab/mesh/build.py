@@ -1,0 +1,267 @@
+"""Meshes with exact curvature as point data (PyVista), welded by grid index or by distance.
+
+The practical shows every Bézier patch as a quadrilateral with its four
+corner colours (Gouraud shading interpolates between them); that is
+:func:`patches_mesh` with ``resolution=1``.  Finer ``resolution`` samples each
+patch on a grid, with curvature computed exactly at every node.  Vertices
+shared by neighbouring patches are welded, and their point data averaged, so
+the mesh is one connected surface.
+"""
+
+import numpy as np
+import pyvista as pv
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from ..geometry import validation as _v
+from ..geometry.colormaps import colors_for
+from ..geometry.curvature import Curvature, CurvatureMode, curvature_values, unit_normal, zero_tolerance
+
+__all__ = [
+    "weld",
+    "grid_mesh",
+    "patches_mesh",
+    "surface_mesh",
+    "color_curvature",
+    "WELD_RTOL",
+]
+
+#: Points closer than WELD_RTOL times the bounding-box diagonal are merged.
+WELD_RTOL = 1e-9
+
+
+def weld(points, rtol=WELD_RTOL, extent=None):
+    """Labels that merge coincident points.
+
+    Parameters
+    ----------
+    points : (k, 3) ndarray
+    rtol : float
+        Merge distance relative to the bounding-box diagonal.
+    extent : float, optional
+        The length the tolerance is relative to (default: the points' bounding-box diagonal).
+
+    Returns
+    -------
+    labels : (k,) int ndarray
+        ``labels[i]`` is the index of point ``i`` in the welded point list; the
+        groups are the connected components of the "closer than tol" graph.
+    n : int
+        Number of welded points.
+    """
+    points = np.asarray(points, dtype=float)
+    if extent is None:
+        extent = np.linalg.norm(points.max(axis=0) - points.min(axis=0)) if len(points) else 0.0
+    tol = rtol * max(extent, 1e-300)
+    pairs = cKDTree(points).query_pairs(tol, output_type="ndarray")
+    k = len(points)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(k, k))
+    n, labels = connected_components(graph, directed=False)
+    return labels, n
+
+
+def _average(labels, n, values):
+    """Mean of ``values`` (k, ...) over each label group; NaN-aware (NaN only if every member is NaN)."""
+    values = np.asarray(values, dtype=float)
+    flat = values.reshape(len(values), -1)
+    finite = np.isfinite(flat)
+    out = np.empty((n, flat.shape[1]))
+    for c in range(flat.shape[1]):  # bincount is much faster than np.add.at
+        counts = np.bincount(labels, weights=finite[:, c], minlength=n)
+        sums = np.bincount(labels, weights=np.where(finite[:, c], flat[:, c], 0.0), minlength=n)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            out[:, c] = np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+    return out.reshape((n,) + values.shape[1:])
+
+
+def _index_labels(g, a, b, grid_shape):
+    """Welded vertex labels of patch grids that tile a rectangle: patch (I, J) point (s, t) -> (I(a-1)+s, J(b-1)+t)."""
+    rows, cols = grid_shape
+    I, J = np.divmod(np.arange(g), cols)
+    s = np.arange(a)
+    t = np.arange(b)
+    gi = I[:, None, None] * (a - 1) + s[None, :, None]
+    gj = J[:, None, None] * (b - 1) + t[None, None, :]
+    width = cols * (b - 1) + 1
+    return (gi * width + gj).ravel(), (rows * (a - 1) + 1) * width, width
+
+
+def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_shape=None):
+    """A quad mesh from grids of points, welded across grids.
+
+    Parameters
+    ----------
+    points : (g, a, b, 3) ndarray
+        ``g`` grids of ``a x b`` points (one per patch).
+    point_data : dict of name -> (g, a, b, ...) ndarray
+        Values per grid point; averaged over welded points (booleans: any).
+        A field called ``N`` (unit normals) is renormalised after averaging,
+        and where it is NaN (degenerate points) replaced by the mesh normal.
+    weld_points : bool
+    first_data : dict of name -> (g, a, b, ...) ndarray
+        Values per grid point of which a welded point keeps the first (e.g.
+        ``uv`` parameters, which differ across the seam of a closed surface).
+    grid_shape : (rows, columns), optional
+        The grids tile a rectangle in row-major order: shared points are
+        welded by index (fast), and only the outer boundary is welded by
+        distance (seams of closed surfaces, collapsed edges).
+
+    Returns
+    -------
+    pyvista.PolyData
+    """
+    g, a, b, _ = points.shape
+    idx = np.arange(g * a * b).reshape(g, a, b)
+    quads = np.stack([idx[:, :-1, :-1], idx[:, 1:, :-1], idx[:, 1:, 1:], idx[:, :-1, 1:]], axis=-1).reshape(-1, 4)
+    flat_points = points.reshape(-1, 3)
+
+    def flat(v):
+        return np.asarray(v).reshape((g * a * b,) + np.shape(v)[3:])
+
+    data = {k: flat(v) for k, v in (point_data or {}).items()}
+    first = {k: flat(v) for k, v in (first_data or {}).items()}
+    if weld_points:
+        if grid_shape is not None:
+            labels, n, width = _index_labels(g, a, b, grid_shape)
+            # weld the rectangle's boundary by distance too (seams, poles): a few points only
+            boundary = np.zeros(n, bool)
+            boundary[:width] = boundary[-width:] = True
+            boundary[::width] = boundary[width - 1 :: width] = True
+            pos = np.zeros((n, 3))
+            pos[labels] = flat_points
+            b_idx = np.nonzero(boundary)[0]
+            b_labels, _ = weld(pos[b_idx], extent=float(np.linalg.norm(np.ptp(flat_points, axis=0))))
+            remap = np.arange(n)
+            remap[b_idx] = b_idx[_first_of(b_labels)[b_labels]]
+            labels = remap[labels]
+            _, labels = np.unique(labels, return_inverse=True)
+            n = int(labels.max()) + 1
+        else:
+            labels, n = weld(flat_points)
+        quads = labels[quads]
+        flat_points = _average(labels, n, flat_points)
+        for k, v in data.items():
+            if v.dtype == bool:
+                data[k] = np.bincount(labels, weights=v, minlength=n) > 0
+            else:
+                data[k] = _average(labels, n, v)
+        first = {k: v[_first_of(labels, n)] for k, v in first.items()}
+    faces = np.hstack([np.full((len(quads), 1), 4), quads]).ravel()
+    mesh = pv.PolyData(flat_points, faces)
+    for k, v in {**data, **first}.items():
+        mesh.point_data[k] = v
+    if "N" in mesh.point_data:
+        N = np.asarray(mesh.point_data["N"])
+        N = N / np.linalg.norm(N, axis=1, keepdims=True)
+        missing = ~np.all(np.isfinite(N), axis=1)
+        if np.any(missing):
+            normals = mesh.compute_normals(point_normals=True, cell_normals=False, auto_orient_normals=False,
+                                           consistent_normals=False, split_vertices=False)
+            fill = np.asarray(normals.point_data["Normals"][missing], dtype=float)
+            N[missing] = fill / np.linalg.norm(fill, axis=1, keepdims=True)  # VTK's normals are float32
+        mesh.point_data["N"] = N
+    return mesh
+
+
+def _first_of(labels, n=None):
+    """For labels 0..n-1: the index of the first element carrying each label."""
+    n = int(labels.max()) + 1 if n is None else n
+    order = np.arange(len(labels))[::-1]
+    pick = np.empty(n, dtype=int)
+    pick[labels[order]] = order  # reversed assignment leaves the smallest index
+    return pick
+
+
+def _bilinear(corner_values, s):
+    """Bilinear interpolation of ``(..., 2, 2, c)`` corner values on the grid ``s x s`` (s from 0 to 1)."""
+    a = np.stack([1 - s, s], axis=-1)  # (r, 2)
+    return np.einsum("ia,jb,...abc->...ijc", a, a, corner_values)
+
+
+def _curvature_data(D, curv):
+    """Point data of a curvature mesh: K, H, k1, k2, degenerate and the unit normal N."""
+    N, _ = unit_normal(D.bu, D.bv)
+    return {"K": curv.K, "H": curv.H, "k1": curv.k1, "k2": curv.k2, "degenerate": curv.degenerate, "N": N}
+
+
+def patches_mesh(patches, resolution=1):
+    """A welded :class:`pyvista.PolyData` of a :class:`lab.BezierPatches` collection.
+
+    Parameters
+    ----------
+    patches : BezierPatches
+    resolution : int
+        Quads per patch edge; 1 gives one quad per patch with the corners only,
+        as the practical draws it.
+
+    Returns
+    -------
+    pyvista.PolyData
+        Point data ``K``, ``H``, ``k1``, ``k2`` (exact at every node),
+        ``degenerate`` (bool), ``N`` (unit normal b_u x b_v / |b_u x b_v|); if
+        the collection has been coloured (``visualize_curvature`` or
+        ``set_colors``), also ``RGB`` (uint8, the corner colours interpolated
+        bilinearly inside a patch, as Gouraud shading would) and ``values``
+        (the stored corner values, interpolated).  Patches that tile a grid
+        (:attr:`lab.BezierPatches.grid_shape`) are welded by index, others by distance.
+    """
+    resolution = _v.as_positive_int(resolution, "resolution", minimum=1)
+    s = np.linspace(0.0, 1.0, resolution + 1)
+    if resolution == 1:
+        D = patches.corner_derivatives()
+        curv = patches.corner_curvature(D)
+    else:
+        U, V = np.meshgrid(s, s, indexing="ij")
+        D = patches.derivatives(U, V)
+        curv = patches.curvature_at(U, V)
+    data = _curvature_data(D, curv)
+    if np.all(np.isfinite(patches.colors)):
+        data["colors"] = _bilinear(patches.colors, s)
+        data["values"] = _bilinear(patches.curvature[..., None], s)[..., 0]
+    mesh = grid_mesh(D.b, data, grid_shape=patches.grid_shape)
+    if "colors" in mesh.point_data:
+        mesh.point_data["RGB"] = np.round(255 * np.clip(mesh.point_data.pop("colors"), 0, 1)).astype(np.uint8)
+    return mesh
+
+
+def surface_mesh(surface, nu=64, nv=64, curvature_mode=None, color_map=None, **map_options):
+    """A welded mesh of any :class:`lab.Surface` on an ``nu x nv`` parameter grid, with exact curvature.
+
+    Seams of closed surfaces (torus, sphere poles) are welded.  Point data as
+    :func:`patches_mesh`, plus ``uv``, the parameters of each vertex.  With
+    ``curvature_mode`` and ``color_map`` the point data also holds ``values``
+    and ``RGB`` coloured like :meth:`lab.BezierPatches.visualize_curvature`.
+    """
+    U, V = surface.grid(nu, nv)
+    D = surface.derivatives(U, V)
+    curv = surface.curvature(U, V)
+    data = _curvature_data(D, curv)
+    mesh = grid_mesh(D.b[None], {k: v[None] for k, v in data.items()}, first_data={"uv": np.stack([U, V], -1)[None]})
+    if curvature_mode is not None and color_map is not None:
+        color_curvature(mesh, curvature_mode, color_map, **map_options)
+    return mesh
+
+
+def color_curvature(mesh, curvature_mode, color_map, **map_options):
+    """Add ``values`` and ``RGB`` point data to a mesh with ``K, H, k1, k2`` point data (in place)."""
+    curv = Curvature(*(mesh.point_data[k] for k in ("K", "H", "k1", "k2", "degenerate")))
+    values = curvature_values(curv, curvature_mode)
+    size = float(np.linalg.norm(np.ptp(mesh.points, axis=0)))
+    name = color_map.value if hasattr(color_map, "value") else color_map
+    rgb = colors_for(values, name, tol=zero_tolerance(CurvatureMode(curvature_mode), size), **map_options)
+    mesh.point_data["values"] = values
+    mesh.point_data["RGB"] = np.round(255 * rgb).astype(np.uint8)
+    return mesh
+
+
+
+
+def _faces(mesh):
+    """Faces of a PolyData as a list of index arrays."""
+    faces, out, i = mesh.faces, [], 0
+    while i < len(faces):
+        k = faces[i]
+        out.append(faces[i + 1 : i + 1 + k])
+        i += k + 1
+    return out

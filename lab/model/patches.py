@@ -1,0 +1,327 @@
+"""The practical's collection of Bézier patches (``seeds/001`` section 5, class ``bezier_patches``).
+
+The patches are stored as one array of shape ``(N, m+1, n+1, 3)`` so that
+:meth:`BezierPatches.refine` and the curvature at the corners are computed for
+all patches at once.  Iterating over the collection gives :class:`BezierPatch`
+views with the practical's per-patch interface (``degree``,
+``control_points``, ``set_curvature``, ``set_colors``, ``curvature``,
+``colors``), which write into the shared arrays.
+"""
+
+import numpy as np
+
+from ..geometry import bezier, colormaps
+from ..geometry import curvature as _curv
+from ..geometry import validation as _v
+from ..geometry.colormaps import ColorMap, colors_for
+from ..geometry.curvature import CurvatureMode, curvature_values, zero_tolerance
+from ..geometry.derivatives import Derivatives, from_homogeneous
+
+__all__ = ["BezierPatches", "BezierPatch", "CurvatureMode", "ColorMap", "CORNER_U", "CORNER_V"]
+
+#: Parameters of the four corners, indexed ``[a, b]`` for ``(u, v) = (a, b)``.
+CORNER_U = np.array([[0.0, 0.0], [1.0, 1.0]])
+CORNER_V = np.array([[0.0, 1.0], [0.0, 1.0]])
+
+
+def _grid_order(children, rows, cols):
+    """Reorder (rows*cols, 2, 2, ...) children into the row-major order of the (2 rows, 2 cols) grid."""
+    c = children.reshape((rows, cols, 2, 2) + children.shape[3:])
+    return np.swapaxes(c, 1, 2).reshape((4 * rows * cols,) + children.shape[3:])
+
+
+class BezierPatch:
+    """View of one patch of a :class:`BezierPatches` collection (the practical's ``bezier_surface``)."""
+
+    __slots__ = ("_owner", "_index")
+
+    def __init__(self, owner, index):
+        self._owner = owner
+        self._index = index
+
+    @property
+    def degree(self):
+        """Degrees ``(m, n)`` along u and v."""
+        return self._owner.degree
+
+    @property
+    def control_points(self):
+        """Control net, shape ``(m+1, n+1, 3)``, first index along u (a view: do not modify)."""
+        return self._owner.control_points[self._index]
+
+    @property
+    def weights(self):
+        """Weights ``(m+1, n+1)`` of a rational patch, or None."""
+        w = self._owner.weights
+        return None if w is None else w[self._index]
+
+    @property
+    def curvature(self):
+        """Stored corner values ``[[c00, c01], [c10, c11]]`` (index ``[u, v]``)."""
+        return self._owner.curvature[self._index]
+
+    @property
+    def colors(self):
+        """Stored corner colours, shape ``(2, 2, 3)`` indexed ``[u, v]``."""
+        return self._owner.colors[self._index]
+
+    def set_curvature(self, c00, c01, c10, c11):
+        """Store the curvature at the corners; ``c01`` is the value at ``u = 0, v = 1``."""
+        values = []
+        for name, c in (("c00", c00), ("c01", c01), ("c10", c10), ("c11", c11)):
+            try:
+                value = float(c)
+            except (TypeError, ValueError):
+                raise TypeError(f"set_curvature: {name} must be a number; got {type(c).__name__} {c!r}") from None
+            values.append(value)
+        self._owner.curvature[self._index] = np.reshape(values, (2, 2))
+
+    def set_colors(self, c00, c01, c10, c11):
+        """Store the colours at the corners, each an ``(r, g, b)`` tuple in [0, 1]; ``c01`` is at ``u = 0, v = 1``."""
+        rgb = []
+        for name, c in (("c00", c00), ("c01", c01), ("c10", c10), ("c11", c11)):
+            try:
+                arr = np.asarray(c, dtype=float)
+            except (TypeError, ValueError):
+                raise TypeError(f"set_colors: {name} must be an (r, g, b) tuple; got {c!r}") from None
+            if arr.shape != (3,):
+                raise ValueError(f"set_colors: {name} must be an (r, g, b) tuple of 3 numbers; got shape {arr.shape}")
+            if not np.all(np.isfinite(arr)) or arr.min() < 0 or arr.max() > 1:
+                raise ValueError(f"set_colors: {name} components must lie in [0, 1]; got {tuple(arr.tolist())}")
+            rgb.append(arr)
+        self._owner.colors[self._index] = np.reshape(rgb, (2, 2, 3))
+
+    def __repr__(self):
+        return f"<BezierPatch {self._index} of degree {self.degree}>"
+
+
+class BezierPatches:
+    """A collection of Bézier patches of one degree, as in the practical's ``bezier_patches``.
+
+    Parameters
+    ----------
+    control_points : (N, m+1, n+1, 3) array_like
+        The nets, first index along u.  A single net ``(m+1, n+1, 3)`` is one patch.
+    weights : (N, m+1, n+1) array_like, optional
+        Weights of rational patches.
+
+    Attributes
+    ----------
+    curvature : ndarray, shape (N, 2, 2)
+        Corner values stored by :meth:`BezierPatch.set_curvature` (NaN until set).
+    colors : ndarray, shape (N, 2, 2, 3)
+        Corner colours stored by :meth:`BezierPatch.set_colors` (NaN until set).
+    """
+
+    CURVATURE_GAUSSIAN = CurvatureMode.GAUSSIAN
+    CURVATURE_AVERAGE = CurvatureMode.AVERAGE
+    CURVATURE_PRINCIPAL_MAX = CurvatureMode.PRINCIPAL_MAX
+    CURVATURE_PRINCIPAL_MIN = CurvatureMode.PRINCIPAL_MIN
+    CURVATURE_STRAIN_ENERGY = CurvatureMode.STRAIN_ENERGY
+    COLOR_MAP_LINEAR = ColorMap.LINEAR
+    COLOR_MAP_CUT = ColorMap.CUT
+    COLOR_MAP_CLASSIFICATION = ColorMap.CLASSIFICATION
+
+    def __init__(self, control_points, weights=None, grid_shape=None):
+        P = _v.as_control_net(control_points, "control points", batch=True)
+        if P.ndim == 3:  # a single net is one patch
+            P = P[None]
+            if weights is not None and np.ndim(weights) == 2:
+                weights = np.asarray(weights)[None]
+        if P.ndim != 4:
+            raise ValueError(f"control points must have shape (N, m+1, n+1, 3); got {P.shape}")
+        self._P = P
+        self._w = _v.as_weights(weights, P.shape[:3])
+        if grid_shape is not None:
+            grid_shape = tuple(int(x) for x in grid_shape)
+            if len(grid_shape) != 2 or grid_shape[0] * grid_shape[1] != len(P):
+                raise ValueError(f"grid_shape must be (rows, columns) with rows * columns = {len(P)} patches; "
+                                 f"got {grid_shape}")
+        self._grid = grid_shape
+        self._reset()
+
+    @property
+    def grid_shape(self):
+        """``(rows, columns)`` when the patches tile a rectangle of the (u, v) plane in row-major order
+        (patch ``i * columns + j`` is the i-th along u and j-th along v, neighbours share edges), else None.
+
+        Set by ``to_bezier_patches`` of B-spline and Bézier surfaces and kept by :meth:`refine`;
+        meshes use it to weld shared corners by index.
+        """
+        return self._grid
+
+    def _reset(self):
+        self._size = None
+        n = len(self._P)
+        self.curvature = np.full((n, 2, 2), np.nan)
+        self.colors = np.full((n, 2, 2, 3), np.nan)
+
+    # -- the practical's interface ------------------------------------------------
+
+    @property
+    def control_points(self):
+        """All nets, shape ``(N, m+1, n+1, 3)``."""
+        return self._P
+
+    @property
+    def weights(self):
+        """All weights ``(N, m+1, n+1)``, or None for polynomial patches."""
+        return self._w
+
+    @property
+    def degree(self):
+        """Degrees ``(m, n)`` along u and v."""
+        return self._P.shape[1] - 1, self._P.shape[2] - 1
+
+    def __len__(self):
+        return len(self._P)
+
+    def __getitem__(self, index):
+        index = _v.as_positive_int(int(index) if isinstance(index, np.integer) else index, "patch index")
+        if index >= len(self):
+            raise IndexError(f"patch index {index} out of range for {len(self)} patches")
+        return BezierPatch(self, index)
+
+    def __iter__(self):
+        return (BezierPatch(self, i) for i in range(len(self)))
+
+    def refine(self, num=1):
+        """Replace every patch by its four halves (de Casteljau at u = v = 1/2), ``num`` times.
+
+        Afterwards there are ``4**num`` times as many patches; stored curvature
+        and colours are cleared.  Returns ``self``.
+        """
+        num = _v.as_positive_int(num, "num", minimum=0)
+        for _ in range(num):
+            children, w = bezier.subdivide(self._P, 0.5, 0.5, self._w)  # (N, 2, 2, ...)
+            if self._grid is not None:
+                # keep the row-major grid: child (a, b) of patch (i, j) goes to (2i + a, 2j + b)
+                rows, cols = self._grid
+                children = _grid_order(children, rows, cols)
+                w = None if w is None else _grid_order(w, rows, cols)
+                self._grid = (2 * rows, 2 * cols)
+            self._P = children.reshape((-1,) + self._P.shape[1:])
+            self._w = None if w is None else w.reshape((-1,) + self._w.shape[1:])
+        self._reset()
+        return self
+
+    def visualize_curvature(self, curvature_mode, color_map, **options):
+        """Compute the curvature at every corner and colour it (the practical's task, reference solution).
+
+        For each patch: derivatives at the corners from the forward-difference
+        nets, the chosen curvature from the fundamental forms, stored with
+        ``set_curvature``; then the colour map over all corner values, stored
+        with ``set_colors``.  Done for all patches at once.
+
+        Parameters
+        ----------
+        curvature_mode : CurvatureMode or str
+            ``CURVATURE_GAUSSIAN``, ``CURVATURE_AVERAGE``, ``CURVATURE_PRINCIPAL_MAX``
+            or ``CURVATURE_PRINCIPAL_MIN`` (or ``CURVATURE_STRAIN_ENERGY``).
+        color_map : ColorMap or str
+            ``COLOR_MAP_LINEAR`` (h∘f2), ``COLOR_MAP_CUT`` (h∘f1),
+            ``COLOR_MAP_CLASSIFICATION`` (h∘f3), or any name in
+            :data:`lab.colormaps.COLOR_MAPS`.
+        **options
+            Passed to the colour map, e.g. ``vmin``, ``vmax`` for :func:`lab.colormaps.dill`.
+        """
+        values = curvature_values(self.corner_curvature(), curvature_mode)
+        self.curvature[...] = values
+        self.colors[...] = colors_for(
+            values, self._color_map_name(color_map), tol=zero_tolerance(curvature_mode, self.size), **options
+        )
+
+    # -- vectorised helpers -------------------------------------------------------
+
+    @staticmethod
+    def _color_map_name(color_map):
+        names = list(colormaps.COLOR_MAPS)
+        value = color_map.value if isinstance(color_map, ColorMap) else color_map
+        return _v.as_choice(value, names, "colour map")
+
+    @property
+    def size(self):
+        """Diagonal of the bounding box of the patch corners (the model's length scale; cached)."""
+        if self._size is None:
+            corners = self._P[:, [0, -1]][:, :, [0, -1]].reshape(-1, 3)
+            self._size = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
+        return self._size
+
+    def derivatives(self, u, v):
+        """Derivatives of every patch at the points ``(u, v)``; fields of shape ``(N,) + S + (3,)``."""
+        return bezier.derivatives(self._P, u, v, self._w)
+
+    def evaluate(self, u, v):
+        """Points of every patch at ``(u, v)``, shape ``(N,) + S + (3,)``."""
+        return bezier.evaluate(self._P, u, v, self._w)
+
+    def curvature_at(self, u, v):
+        """Exact curvature of every patch at the points ``(u, v)`` (shape ``(N,) + S``).
+
+        Degenerate points get the limit from inside the patch (see
+        :func:`lab.curvature.fill_degenerate`).
+        """
+        u, v = _v.as_parameters(u, v, ((0.0, 1.0), (0.0, 1.0)))
+        return self._with_limits(_curv.from_derivatives(self.derivatives(u, v)), u, v)
+
+    def _with_limits(self, curv, u, v):
+        """Replace values at degenerate points by their limits from inside the patch."""
+        P, w = self._P, self._w
+
+        def derivatives_at(index, uu, vv):
+            wk = None if w is None else w[index[0]]
+            return bezier.derivatives(P[index[0]], uu, vv, wk, paired=True)
+
+        return _curv.with_limits(curv, u, v, (0.5, 0.5), derivatives_at)
+
+    def corner_derivatives(self):
+        """Derivatives at the four corners of every patch, fields ``(N, 2, 2, 3)`` indexed ``[patch, u, v]``.
+
+        Read off the corners of the forward-difference nets
+        (:func:`lab.bezier.corner_derivatives`), as in the practical's figure 3.
+        """
+        D = Derivatives(*bezier._corner_values(bezier.homogeneous(self._P, self._w)))  # nets checked on entry
+        return D if self._w is None else from_homogeneous(D)
+
+    def corner_curvature(self, derivatives=None):
+        """Exact curvature at the four corners of every patch, fields of shape ``(N, 2, 2)`` indexed ``[patch, u, v]``.
+
+        ``derivatives`` may pass in :meth:`corner_derivatives` when the caller already has them.
+        """
+        D = self.corner_derivatives() if derivatives is None else derivatives
+        return self._with_limits(_curv.from_derivatives(D), CORNER_U, CORNER_V)
+
+    # -- output -------------------------------------------------------------------
+
+    def to_mesh(self, resolution=1):
+        """A welded :class:`pyvista.PolyData` of the patches; see :func:`lab.mesh.patches_mesh`."""
+        from ..mesh import patches_mesh
+
+        return patches_mesh(self, resolution=resolution)
+
+    def write_cbez(self, path):
+        """Export for geomview as coloured Bézier patches (``CBEZ333`` for bicubic); see :func:`lab.mesh.write_cbez`."""
+        from ..mesh import write_cbez
+
+        write_cbez(self, path)
+
+    def write_off(self, path, resolution=1):
+        """Export for geomview as a coloured OFF mesh; see :func:`lab.mesh.write_off`."""
+        from ..mesh import write_off
+
+        write_off(self.to_mesh(resolution), path)
+
+    def copy(self):
+        """An independent copy (nets, weights, stored curvature and colours)."""
+        new = type(self).__new__(type(self))
+        new._P = self._P.copy()
+        new._w = None if self._w is None else self._w.copy()
+        new.curvature = self.curvature.copy()
+        new.colors = self.colors.copy()
+        new._size = self._size
+        new._grid = self._grid
+        return new
+
+    def __repr__(self):
+        kind = "rational " if self._w is not None else ""
+        return f"{type(self).__name__}({len(self)} {kind}patches of degree {self.degree})"

@@ -1,0 +1,312 @@
+"""Named example surfaces (factories), from the practical and the papers in ``seeds/``.
+
+Every factory returns a surface object with the common interface of
+:class:`lab.Surface`; the free-form ones (Bézier, B-spline, NURBS) also have
+``to_bezier_patches()``.  Quadrics and the torus are exact rational B-splines
+(NURBS), so their curvature is exact; surfaces that are not rational
+(catenoid, sine wave) are analytic :class:`lab.ParametricSurface` objects.
+"""
+
+import numpy as np
+
+from .surface import BezierSurface, BSplineSurface, ParametricSurface
+
+__all__ = [
+    "practical",
+    "practical_height",
+    "plane",
+    "sphere",
+    "torus",
+    "cylinder",
+    "cone",
+    "catenoid",
+    "saddle",
+    "monkey_saddle",
+    "sine_wave",
+    "hood",
+    "isodistance_sections_example",
+    "isodistance_geodesics_example",
+    "REGISTRY",
+]
+
+_S = np.sqrt(0.5)
+
+#: The unit circle as a degree-2 NURBS with nine control points (The NURBS Book, example 7.2).
+_CIRCLE_XY = np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], dtype=float)
+_CIRCLE_W = np.array([1, _S, 1, _S, 1, _S, 1, _S, 1])
+_CIRCLE_KNOTS = np.array([0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1])
+
+
+def practical_height(x, y):
+    """The height of the practical's example: f(x, y) = x²/5 + xy/4 + 10/(1 + x² + y²) + y/2."""
+    return x**2 / 5 + x * y / 4 + 10 / (1 + x**2 + y**2) + y / 2
+
+
+def practical():
+    """The example surface of the practical (``curvature-visualization.py``, ``seeds/README.md``).
+
+    Control points ``(x, y, f(x, y))`` for ``x, y`` in -5 … 4 (a 10 × 10 grid,
+    first index along u = x), bicubic, knot vector ``0,0,0,0,1,2,…,6,7,7,7,7``
+    in each direction, hence 7 × 7 Bézier patches.  The practical then refines
+    once and colours by Gaussian curvature with the linear map.
+    """
+    x = np.arange(-5.0, 5.0)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    P = np.stack([X, Y, practical_height(X, Y)], axis=-1)
+    knots = np.concatenate([[0, 0, 0], np.arange(8), [7, 7, 7]]).astype(float)
+    return BSplineSurface(P, knots, knots, 3, 3)
+
+
+def plane(size=1.0):
+    """The square ``[0, size]^2`` in the plane z = 0 as a bilinear Bézier patch (K = H = 0)."""
+    P = np.array([[[0, 0, 0], [0, size, 0]], [[size, 0, 0], [size, size, 0]]], dtype=float)
+    return BezierSurface(P)
+
+
+def _revolve(profile, weights, knots_profile, degree_profile, profile_first=True):
+    """Surface of revolution about z of a (rational) profile curve in the (rho, z) plane.
+
+    The revolution direction uses the nine-point NURBS circle.  With
+    ``profile_first`` the profile runs along u, else along v.
+    """
+    rho, z = profile[:, 0], profile[:, 1]
+    P = np.stack(
+        [rho[:, None] * _CIRCLE_XY[None, :, 0], rho[:, None] * _CIRCLE_XY[None, :, 1], np.repeat(z[:, None], 9, 1)],
+        axis=-1,
+    )
+    W = weights[:, None] * _CIRCLE_W[None, :]
+    if profile_first:
+        return BSplineSurface(P, knots_profile, _CIRCLE_KNOTS, degree_profile, 2, weights=W)
+    return BSplineSurface(P.transpose(1, 0, 2), _CIRCLE_KNOTS, knots_profile, 2, degree_profile, weights=W.T)
+
+
+def sphere(radius=1.0):
+    """Sphere of ``radius`` centred at the origin, as an exact biquadratic NURBS.
+
+    u runs around the z axis, v along a meridian from the south to the north
+    pole; the edges v = 0 and v = 1 collapse to the poles (degenerate points,
+    where the curvature is the limit from inside).  The normal points outwards,
+    so with the practical's convention ``H = k1 = k2 = -1/radius`` and ``K = 1/radius²``.
+    """
+    r = float(radius)
+    if not r > 0:
+        raise ValueError(f"radius must be positive; got {radius}")
+    profile = r * np.array([[0, -1], [1, -1], [1, 0], [1, 1], [0, 1]], dtype=float)
+    w = np.array([1, _S, 1, _S, 1])
+    knots = np.array([0, 0, 0, 0.5, 0.5, 1, 1, 1])
+    s = _revolve(profile, w, knots, 2, profile_first=False)
+    s.periodic = (True, False)
+    return s
+
+
+def torus(R=2.0, r=1.0):
+    """Torus with tube radius ``r`` around a circle of radius ``R`` in the xy plane, as an exact NURBS.
+
+    u runs around the tube, v around the z axis.  K > 0 on the outside, K < 0
+    on the inside and K = 0 on the top and bottom rims (Dill, figure 7):
+    ``K = cos(t) / (r (R + r cos(t)))`` where ``t`` is the angle around the tube.
+    """
+    R, r = float(R), float(r)
+    if not (r > 0 and R > r):
+        raise ValueError(f"torus needs R > r > 0; got R={R}, r={r}")
+    profile = np.column_stack([R + r * _CIRCLE_XY[:, 0], r * _CIRCLE_XY[:, 1]])
+    s = _revolve(profile, _CIRCLE_W, _CIRCLE_KNOTS, 2, profile_first=True)
+    s.periodic = (True, True)
+    return s
+
+
+def cylinder(r=1.0, h=2.0):
+    """Cylinder of radius ``r`` and height ``h`` about the z axis (from z = 0), as an exact NURBS.
+
+    u runs around the axis, v up; the normal points outwards, so
+    ``K = 0`` and ``H = -1/(2r)``.
+    """
+    r, h = float(r), float(h)
+    if not (r > 0 and h > 0):
+        raise ValueError(f"cylinder needs r > 0 and h > 0; got r={r}, h={h}")
+    profile = np.array([[r, 0.0], [r, h]])
+    s = _revolve(profile, np.ones(2), np.array([0.0, 0, 1, 1]), 1, profile_first=False)
+    s.periodic = (True, False)
+    return s
+
+
+def cone(radius=1.0, height=1.0):
+    """A quarter of a cone as a bilinear-by-quadratic rational Bézier patch whose edge v = 1 collapses to the apex.
+
+    The mean curvature grows like 1/distance towards the apex, so there the
+    curvature has no finite limit: the points are reported as degenerate.
+    """
+    arc = np.array([[radius, 0, 0], [radius, radius, 0], [0, radius, 0]], dtype=float)
+    apex = np.array([0.0, 0.0, height])
+    P = np.stack([arc, np.repeat(apex[None], 3, 0)], axis=1)  # (3, 2, 3): u along the arc
+    W = np.array([[1, 1], [_S, _S], [1, 1]])
+    return BezierSurface(P, W)
+
+
+def catenoid(c=1.0, height=None):
+    """Catenoid ``(c cosh(v/c) cos u, c cosh(v/c) sin u, v)``, a minimal surface (Dill, figure 8).
+
+    ``H = 0`` everywhere and ``K = -1 / (c² cosh⁴(v/c))``, from ``-1/c²`` at
+    the waist towards 0.  ``v`` runs over ``[-height/2, height/2]`` (default
+    ``height = 3c``), ``u`` over ``[0, 2π]``.
+    """
+    import sympy as sp
+
+    c = sp.nsimplify(c)
+    if not c > 0:
+        raise ValueError(f"c must be positive; got {c}")
+    half = 1.5 * c if height is None else sp.nsimplify(height) / 2
+    u, v = sp.symbols("u v", real=True)
+    xyz = (c * sp.cosh(v / c) * sp.cos(u), c * sp.cosh(v / c) * sp.sin(u), v)
+    s = ParametricSurface.from_sympy(xyz, (u, v), ((0, 2 * sp.pi), (-half, half)), name="catenoid")
+    s.periodic = (True, False)
+    return s
+
+
+def _bezier_from_function(f, m, n):
+    """Bézier net of the polynomial graph ``(x, y, f(x, y))`` over ``[-1, 1]^2`` with ``x = 2u-1, y = 2v-1``.
+
+    ``f`` must be a polynomial of degree at most ``m`` in x and ``n`` in y; the
+    net is found by interpolation at equidistant nodes (exact up to rounding).
+    """
+    from ..geometry.bezier import bernstein
+
+    tu = np.linspace(0, 1, m + 1)
+    tv = np.linspace(0, 1, n + 1)
+    Bu, Bv = bernstein(m, tu), bernstein(n, tv)
+    U, V = np.meshgrid(tu, tv, indexing="ij")
+    Z = f(2 * U - 1, 2 * V - 1)
+    coeff = np.linalg.solve(Bu, np.linalg.solve(Bv, Z.T).T)
+    X = np.linspace(-1, 1, m + 1)
+    Y = np.linspace(-1, 1, n + 1)
+    XX, YY = np.meshgrid(X, Y, indexing="ij")
+    return np.stack([XX, YY, coeff], axis=-1)
+
+
+def saddle():
+    """The hyperbolic paraboloid z = x² - y² over [-1, 1]² as a biquadratic Bézier patch (K < 0 everywhere)."""
+    a = np.array([1.0, -1.0, 1.0])  # (2u-1)^2 in the Bernstein basis of degree 2
+    x = np.array([-1.0, 0.0, 1.0])
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    return BezierSurface(np.stack([X, Y, a[:, None] - a[None, :]], axis=-1))
+
+
+def monkey_saddle():
+    """The monkey saddle z = x³ - 3xy² over [-1, 1]² as a bicubic Bézier patch (a flat point at the centre)."""
+    return BezierSurface(_bezier_from_function(lambda x, y: x**3 - 3 * x * y**2, 3, 3))
+
+
+def sine_wave(amplitude=0.5, frequency=1.0, radius=2 * np.pi):
+    """Dill's sine wave of revolution, ``z = A cos(ω ρ)`` for ρ in [0, radius], as an analytic surface.
+
+    Parametrised by ``(ρ cos φ, ρ sin φ, A cos(ω ρ))``.  The cosine phase
+    makes the crest at the centre smooth (``A sin(ω ρ)`` would have a conical
+    tip there); the edge ρ = 0 collapses to the centre, a degenerate point
+    where the curvature is the limit from inside, ``K = (A ω²)²``.  The rings
+    alternate between elliptic (crests, troughs) and hyperbolic (flanks) points.
+    """
+    import sympy as sp
+
+    rho, phi = sp.symbols("rho phi", real=True)
+    A, w = sp.nsimplify(amplitude), sp.nsimplify(frequency)
+    xyz = (rho * sp.cos(phi), rho * sp.sin(phi), A * sp.cos(w * rho))
+    s = ParametricSurface.from_sympy(xyz, (rho, phi), ((0, float(radius)), (0, 2 * sp.pi)), name="sine wave")
+    s.periodic = (False, True)
+    return s
+
+
+def hood():
+    """A car-hood-like bicubic B-spline (right half, after Dill's figure 9) with a crease and a flat spot.
+
+    u runs from the front (u = 0) to the windscreen, v from the centre line
+    outwards.  The crown falls off towards the front and the side; a
+    longitudinal crease runs along v ≈ 0.5 (control points pulled up into a
+    ridge over a double knot, so the curvature is high and jumps across it);
+    near the back outside corner the 4 × 4 control points of the last knot
+    span are coplanar, so that patch is exactly flat (K = H = 0): the "flat
+    spot" Dill's designers found on the production hood.
+    """
+    nu, nv = 8, 9
+    x = np.linspace(0.0, 1.6, nu)  # front to back (m)
+    y = np.array([0.0, 0.1, 0.2, 0.3, 0.36, 0.42, 0.55, 0.68, 0.8])  # centre line to side (m)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    xs, ys = X / 1.6, Y / 0.8
+    Z = 0.10 + 0.05 * xs - 0.06 * (1 - xs) ** 2 - 0.07 * ys**2
+    Z[:, 4] += 0.012  # the crease: a ridge of control points
+    # Flat spot: the last 4 x 4 control points lie on the tangent plane of the crown there.
+    i0, j0 = nu - 4, nv - 4
+    xc, yc = X[i0:, j0:], Y[i0:, j0:]
+    z0 = 0.10 + 0.05 - 0.07 * 0.75**2
+    Z[i0:, j0:] = z0 + 0.03 * (xc - 1.4) - 0.12 * (yc - 0.7)
+    P = np.stack([X, Y, Z], axis=-1)
+    ku = np.concatenate([[0, 0, 0], np.arange(nu - 2), [nu - 3] * 3]).astype(float)
+    kv = np.array([0, 0, 0, 0, 1, 2, 3, 3, 4, 5, 5, 5, 5], dtype=float)  # double knot 3: the crease
+    return BSplineSurface(P, ku, kv, 3, 3)
+
+
+def isodistance_sections_example():
+    """The first NURBS of Puig-Pey et al. (``seeds/003`` section 5, figure 1), reconstructed.
+
+    Order (4, 4), a 4 × 6 control grid, non-periodic knot vectors: one patch
+    along u and three along v.  The paper does not list its control points;
+    these give a gently waved sheet of about 6 × 9 units, so that normal
+    sections of length 0.3 … 4.5 (the paper's s_L range) stay on or leave it
+    as in the figure.
+    """
+    x = np.array([0.0, 2.0, 4.0, 6.0])
+    y = np.array([0.0, 1.8, 3.6, 5.4, 7.2, 9.0])
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    Z = np.array(
+        [
+            [0.0, 0.8, 1.5, 1.2, 0.4, 0.0],
+            [0.6, 2.0, 2.6, 2.2, 1.4, 0.5],
+            [0.4, 1.6, 2.4, 2.8, 1.8, 0.7],
+            [0.0, 0.6, 1.2, 1.6, 1.0, 0.2],
+        ]
+    )
+    W = np.ones((4, 6))
+    W[1, 2] = W[2, 3] = 1.5
+    ku = np.array([0, 0, 0, 0, 1, 1, 1, 1], dtype=float)
+    kv = np.array([0, 0, 0, 0, 1, 2, 3, 3, 3, 3], dtype=float) / 3
+    return BSplineSurface(np.stack([X, Y, Z], axis=-1), ku, kv, 3, 3, weights=W)
+
+
+def isodistance_geodesics_example():
+    """The second NURBS of Puig-Pey et al. (``seeds/003`` section 5, figures 2–3), reconstructed.
+
+    A single bicubic rational patch on a 4 × 4 control grid, about 30 × 30
+    units, so that geodesics from ``x(0.7, 0.3)`` reach the paper's distances
+    1.25 … 20.  The control points are ours (the paper does not list them).
+    """
+    x = np.array([0.0, 10.0, 20.0, 30.0])
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    Z = np.array(
+        [
+            [0.0, 4.0, 6.0, 2.0],
+            [3.0, 12.0, 10.0, 5.0],
+            [2.0, 9.0, 14.0, 6.0],
+            [0.0, 3.0, 5.0, 1.0],
+        ]
+    )
+    W = np.ones((4, 4))
+    W[1, 1] = 2.0
+    W[2, 2] = 0.8
+    return BezierSurface(np.stack([X, Y, Z], axis=-1), weights=W)
+
+
+#: Factories by name, with default arguments (used by the CLI and the explorers).
+REGISTRY = {
+    "practical": practical,
+    "plane": plane,
+    "sphere": sphere,
+    "torus": torus,
+    "cylinder": cylinder,
+    "cone": cone,
+    "catenoid": catenoid,
+    "saddle": saddle,
+    "monkey-saddle": monkey_saddle,
+    "sine-wave": sine_wave,
+    "hood": hood,
+    "isodistance-sections": isodistance_sections_example,
+    "isodistance-geodesics": isodistance_geodesics_example,
+}

@@ -1,0 +1,12 @@
+"""The explorers: ipywidgets controls beside a live PyVista (trame) view, one call in a notebook each.
+
+``base`` (threads, view, lifecycle) → ``curvature``, ``interrogation`` (focal, reflection, geodesic).
+May import ipywidgets, pyvista, trame and every layer below lab.view.
+"""
+
+from .base import Explorer, callback_threads, in_jupyter_session, live_view_possible
+from .curvature import CurvatureExplorer
+from .interrogation import FocalExplorer, GeodesicExplorer, ReflectionExplorer
+
+__all__ = ["Explorer", "CurvatureExplorer", "FocalExplorer", "ReflectionExplorer", "GeodesicExplorer",
+           "live_view_possible", "in_jupyter_session", "callback_threads"]
