@@ -21,19 +21,19 @@ def make_solution(mistake=None):
             for patch in self:
                 P = patch.control_points
                 m, n = patch.degree
-                if mistake == "swapped_degrees":
+                if mistake in ("swapped_degrees", "swapped_index"):
                     m, n = n, m
                 fu2, fv2 = (m, n) if mistake == "second_factor" else (m * (m - 1), n * (n - 1))
                 if mistake == "no_factors":
                     m = n = fu2 = fv2 = 1
-                bu = m * (P[1:] - P[:-1])
+                bu = (1 if mistake == "missing_bu" else m) * (P[1:] - P[:-1])
                 bv = n * (P[:, 1:] - P[:, :-1])
                 buu = fu2 * (P[2:] - 2 * P[1:-1] + P[:-2])
                 buv = m * n * (P[1:, 1:] - P[1:, :-1] - P[:-1, 1:] + P[:-1, :-1])
                 bvv = fv2 * (P[:, 2:] - 2 * P[:, 1:-1] + P[:, :-2])
                 corners = []
                 for a, b in ((0, 0), (0, 1), (1, 0), (1, 1)):
-                    i, j = -a, -b
+                    i, j = (a * (m - 1), b * (n - 1)) if mistake == "swapped_index" else (-a, -b)
                     N = np.cross(bu[i, j], bv[i, j])
                     if mistake != "unnormalised":
                         N = N / np.linalg.norm(N)
@@ -53,7 +53,14 @@ def make_solution(mistake=None):
                     corners = [corners[0], corners[2], corners[1], corners[3]]
                 patch.set_curvature(*corners)
                 values.extend(corners)
+            P = self.control_points.reshape(-1, 3)
+            size = np.linalg.norm(P.max(axis=0) - P.min(axis=0))
+            tol = 1e-9 / size ** (2 if curvature_mode == self.CURVATURE_GAUSSIAN else 1)
+            if mistake == "f3_absolute":
+                tol = 1e-3
             kmin, kmax = min(values), max(values)
+            if kmax - kmin <= tol and mistake != "f2_noise":
+                kmin = kmax
             for patch in self:
                 colours = []
                 for x in patch.curvature.ravel():
@@ -62,7 +69,7 @@ def make_solution(mistake=None):
                     elif color_map == self.COLOR_MAP_CUT:
                         t = f1(x)
                     else:
-                        t = (0.5 if x == 0 else float(x > 0)) if mistake == "f3_exact" else f3(x)
+                        t = (0.5 if x == 0 else float(x > 0)) if mistake == "f3_exact" else f3(x, tol)
                     colours.append(tuple(h(t)))
                 patch.set_colors(*colours)
 
@@ -82,21 +89,27 @@ def test_reference_solution_passes_public_and_graded():
 
 MUTANT_HINTS = {
     "swapped_degrees": "m and n are swapped",
+    "swapped_index": "m and n are swapped",
     "no_factors": "need the degree factors",
     "second_factor": "need m(m-1) and n(n-1)",
+    "missing_bu": "b_u lacks its degree factor m",
     "unnormalised": "you used the cross product without dividing by its length",
     "orientation": "opposite orientation",
     "no_half": "the factor ½ is missing",
     "corner_order": "c01 = the value at u = 0, v = 1",
     "sqrt": "use √(max(H² − K, 0))",
     "f2_zero": "f2 must not divide by zero",
+    "f2_noise": "only by rounding noise, so κmax − κmin must count as 0",
     "f3_exact": "f3 must compare with a tolerance",
+    "f3_absolute": "your f3 tolerance is absolute and too large for this model",
 }
 
 
+@pytest.mark.parametrize("seed", [7, 8])
 @pytest.mark.parametrize("mistake", sorted(MUTANT_HINTS))
-def test_each_classic_mistake_fails_with_its_hint(mistake):
-    rep = check.visualize_curvature(make_solution(mistake), seed=7)
+def test_each_classic_mistake_fails_with_its_hint(mistake, seed):
+    """Deterministically: every seed has the cases that expose each mistake (fixed kinds, not random luck)."""
+    rep = check.visualize_curvature(make_solution(mistake), seed=seed)
     assert not rep.passed
     assert MUTANT_HINTS[mistake] in str(rep), str(rep)
 
@@ -187,7 +200,7 @@ def test_delegation_to_the_library_is_refused():
             make_solution().visualize_curvature(self, curvature_mode, color_map)
 
     rep = check.visualize_curvature(Alias)
-    assert rep.status == "delegated" and "lab.curvature.from_derivatives" in rep.message
+    assert rep.status == "delegated" and "lab.geometry.curvature.from_derivatives" in rep.message
     assert lab.curvature.from_derivatives(lab.bezier.derivatives(np.eye(3)[None].repeat(2, 0), 0.5, 0.5)).K.shape == ()
 
     class NoOverride(lab.BezierPatches):
@@ -209,7 +222,7 @@ def test_small_tasks_and_their_hints():
         ((0, 4 * x, 1) if x <= 0.25 else (0, 1, 2 - 4 * x) if x <= 0.5 else (4 * x - 2, 1, 0) if x <= 0.75 else (1, 4 - 4 * x, 0)),
         "f1": lambda x: min(max(x, 0.0), 1.0),
         "f2": lambda x, lo, hi: 0.5 if hi == lo else (x - lo) / (hi - lo),
-        "f3": lambda x: 0.5 if abs(x) <= 1e-9 else float(x > 0),
+        "f3": lambda x, tol=1e-9: 0.5 if abs(x) <= tol else float(x > 0),
     }
     for task, func in good.items():
         rep = check.run(task, func)
@@ -220,7 +233,9 @@ def test_small_tasks_and_their_hints():
         ("curve_curvature", lambda d1, d2: np.linalg.norm(d2), "only when the curve has unit speed"),
         ("warmup", lambda k1, k2: k1 * k2, "k1 * k2 is the Gaussian curvature"),
         ("f2", lambda x, lo, hi: (x - lo) / (hi - lo), "return 0.5 (green)"),
-        ("f3", lambda x: 0.5 if x == 0 else float(x > 0), "compare |x| with a small tolerance"),
+        ("f3", lambda x, tol=1e-9: 0.5 if x == 0 else float(x > 0), "compare |x| with the tolerance tol"),
+        ("f3", lambda x, tol=1e-9: 0.5 if abs(x) <= 1e-9 else float(x > 0), "use the tolerance you are given"),
+        ("f3", lambda x: 0.5 if abs(x) <= 1e-9 else float(x > 0), "f3 takes the model's tolerance as its second"),
         ("h", lambda x: (0, 255 * x, 255), "not 0–255"),
     ]
     for task, func, hint in bad:
@@ -287,7 +302,7 @@ def test_derivative_nets_and_corners_hints():
 
 
 def test_cases_are_fresh_each_run_and_reproducible_with_a_seed():
-    from lab.teaching.references import _rand_net
+    from lab.teaching.references import rand_net as _rand_net
 
     a = _rand_net(np.random.default_rng(), 2, 3)
     b = _rand_net(np.random.default_rng(), 2, 3)
@@ -295,3 +310,75 @@ def test_cases_are_fresh_each_run_and_reproducible_with_a_seed():
     c = _rand_net(np.random.default_rng(5), 2, 3)
     d = _rand_net(np.random.default_rng(5), 2, 3)
     np.testing.assert_array_equal(c, d)
+
+
+def test_reference_solution_passes_under_every_seed_of_a_sweep():
+    for seed in range(12):
+        rep = check.visualize_curvature(make_solution(), graded=True, seed=seed)
+        assert rep.passed, (seed, str(rep))
+
+
+def test_an_alternative_correct_implementation_gets_full_marks():
+    """Other formulas (the Weingarten map, vectorised over all corners) and its own scale-aware tolerance."""
+
+    class Vectorised(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            P = self.control_points
+            m, n = P.shape[1] - 1, P.shape[2] - 1
+            d = {"u": m * np.diff(P, axis=1), "v": n * np.diff(P, axis=2)}
+            d["uu"] = m * (m - 1) * np.diff(P, 2, axis=1)
+            d["uv"] = m * n * np.diff(np.diff(P, axis=1), axis=2)
+            d["vv"] = n * (n - 1) * np.diff(P, 2, axis=2)
+            c = {k: v[:, [0, -1]][:, :, [0, -1]] for k, v in d.items()}  # (N, 2, 2, 3) at the corners
+            N = np.cross(c["u"], c["v"])
+            N /= np.linalg.norm(N, axis=-1, keepdims=True)
+            first = np.stack([np.stack([np.einsum("...i,...i", c[a], c[b]) for b in "uv"], -1) for a in "uv"], -2)
+            second = np.stack([np.stack([np.einsum("...i,...i", N, c[a + b if a + b in c else b + a])
+                                         for b in "uv"], -1) for a in "uv"], -2)
+            S = np.linalg.solve(first, second)  # Weingarten map
+            K, H = np.linalg.det(S), 0.5 * np.trace(S, axis1=-2, axis2=-1)
+            disc = ((S[..., 0, 0] - S[..., 1, 1]) / 2) ** 2 + S[..., 0, 1] * S[..., 1, 0]
+            root = np.sqrt(np.clip(disc, 0, None))
+            value = {"gaussian": K, "mean": H, "k1": H + root, "k2": H - root}[curvature_mode.value]
+            scale = np.ptp(P.reshape(-1, 3), axis=0).max()
+            zero = 1e-10 / scale ** (2 if curvature_mode.value == "gaussian" else 1)
+            lo, hi = value.min(), value.max()
+            if color_map.value == "linear":
+                t = np.full_like(value, 0.5) if hi - lo <= zero else (value - lo) / (hi - lo)
+            elif color_map.value == "cut":
+                t = np.clip(value, 0, 1)
+            else:
+                t = np.where(np.abs(value) <= zero, 0.5, (value > 0).astype(float))
+            for k, patch in enumerate(self):
+                patch.set_curvature(*value[k].ravel())
+                patch.set_colors(*(tuple(h(x)) for x in t[k].ravel()))
+
+    for seed in (1, 2, 3):
+        rep = check.visualize_curvature(Vectorised, graded=True, seed=seed)
+        assert rep.passed and rep.score == 1.0, str(rep)
+
+
+def test_constant_answers_get_no_credit_from_flat_cases():
+    class Flat(lab.BezierPatches):
+        def visualize_curvature(self, curvature_mode, color_map):
+            for patch in self:
+                patch.set_curvature(0.0, 0.0, 0.0, 0.0)
+                patch.set_colors(*[(0.0, 1.0, 0.0)] * 4)
+
+    rep = check.visualize_curvature(Flat, graded=True, seed=4)
+    assert rep.score == 0 and "a constant answer fits it by accident" in str(rep)
+
+
+def test_an_exception_in_one_case_does_not_zero_the_others():
+    class OnlySquare(make_solution()):
+        def visualize_curvature(self, curvature_mode, color_map):
+            if self.degree[0] != self.degree[1]:
+                raise IndexError("index 3 is out of bounds for axis 0 with size 3")
+            super().visualize_curvature(curvature_mode, color_map)
+
+    rep = check.visualize_curvature(OnlySquare, graded=True, seed=5)
+    statuses = {c.status for c in rep.cases}
+    assert statuses == {"passed", "error"} and 0 < rep.score < 1
+    assert "m and n are swapped" in str(rep)  # the IndexError on non-square patches is named
+    for case in rep.cases:  # every failing case is listed, with its status
+        assert (f"✘ {case.name}  (error)" if case.status == "error" else f"✔ {case.name}") in str(rep)

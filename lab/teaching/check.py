@@ -1,75 +1,53 @@
 """In-notebook checks with hints: one call per task, e.g. ``check.visualize_curvature(MyBezierPatches)``.
 
-Every check builds fresh random test cases (control nets with rational
-coordinates, so the ground truth is computed exactly with sympy and no answer
-can be hard-coded), runs the student's code under a time limit and with the
-library's reference implementations blocked, and returns a :class:`Report`:
-which cases passed, and for the first failing case what was expected, what
-came out and a hint.  Hints come from comparing the output with deliberately
-wrong variants of the computation (degree factors missing, m and n swapped,
-unnormalised normal, H without ½, corners in the wrong order, ...).
+Every check builds fresh random test cases (control nets with rational coordinates, so the ground truth is
+computed exactly with sympy and no answer can be hard-coded) plus fixed cases that decide between right
+and wrong (umbilics, flat and gently curved patches, non-square patches), runs the student's code on them
+under a time limit and with the library's reference implementations blocked, and returns a
+:class:`~lab.teaching.report.Report`: which cases passed, and for the first failing case what was
+expected, what came out and a hint naming the mistake.  The tasks themselves (cases, exact answers, hints)
+live in :mod:`lab.teaching.tasks`; the grader uses the same ones, in a sandbox.
 
-``graded=True`` (used by :mod:`lab.grading`) adds further cases.
+``graded=True`` adds the further cases the grader uses.
 """
 
+from .report import Case, Report
+from .runner import DEFAULT_TIMEOUT, run_task
+from .tasks import TASKS
 
-from .report import Case, Report, _Stop
-from .runner import ALLOWED_HELPERS, DEFAULT_TIMEOUT
-from .tasks_colors import f1, f2, f3, h, visualize_curvature
-from .tasks_curvature import corner_derivatives, curvatures, curve_curvature, derivative_nets, fundamental_forms, warmup
-from .tasks_interrogation import christoffel, focal_points, reflect, start_velocity
-
-__all__ = [
-    "ALLOWED_HELPERS",
-    "DEFAULT_TIMEOUT",
-    "Report",
-    "Case",
-    "TASKS",
-    "run",
-    "warmup",
-    "curve_curvature",
-    "fundamental_forms",
-    "curvatures",
-    "derivative_nets",
-    "corner_derivatives",
-    "h",
-    "f1",
-    "f2",
-    "f3",
-    "visualize_curvature",
-    "focal_points",
-    "reflect",
-    "christoffel",
-    "start_velocity",
-]
-
-#: Seconds a student function may run in one check before it is stopped.
-
-#: The tasks the autograder knows: name -> check function.
-TASKS = {
-    "warmup": warmup,
-    "curve_curvature": curve_curvature,
-    "fundamental_forms": fundamental_forms,
-    "curvatures": curvatures,
-    "derivative_nets": derivative_nets,
-    "corner_derivatives": corner_derivatives,
-    "h": h,
-    "f1": f1,
-    "f2": f2,
-    "f3": f3,
-    "visualize_curvature": visualize_curvature,
-    "focal_points": focal_points,
-    "reflect": reflect,
-    "christoffel": christoffel,
-    "start_velocity": start_velocity,
-}
+__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "run", "warmup", "curve_curvature", "fundamental_forms", "curvatures", "derivative_nets", "corner_derivatives", "h", "f1", "f2", "f3", "visualize_curvature", "focal_points", "reflect", "christoffel", "start_velocity"]
 
 
-def run(task, obj, **kwargs):
+def run(task, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
     """Run the check called ``task`` on ``obj``; never raises for problems in ``obj``."""
     if task not in TASKS:
         raise ValueError(f"unknown task {task!r}; expected one of {', '.join(TASKS)}")
-    try:
-        return TASKS[task](obj, **kwargs)
-    except _Stop as stop:  # pragma: no cover - tasks convert their own stops
-        return Report(task, stop.status, [], stop.message, kwargs.get("graded", False))
+    return run_task(TASKS[task], obj, graded=graded, seed=seed, timeout=timeout)
+
+
+def _check(name):
+    def check(obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
+        return run(name, obj, graded=graded, seed=seed, timeout=timeout)
+
+    check.__name__ = check.__qualname__ = name
+    task = TASKS[name]
+    check.__doc__ = (f"Check your ``{name}`` on fresh cases; it must return {task.summary}.\n\n"
+                     "Returns a Report (shown in the notebook); ``seed`` reproduces the cases.")
+    return check
+
+
+warmup = _check("warmup")
+curve_curvature = _check("curve_curvature")
+fundamental_forms = _check("fundamental_forms")
+curvatures = _check("curvatures")
+derivative_nets = _check("derivative_nets")
+corner_derivatives = _check("corner_derivatives")
+h = _check("h")
+f1 = _check("f1")
+f2 = _check("f2")
+f3 = _check("f3")
+visualize_curvature = _check("visualize_curvature")
+focal_points = _check("focal_points")
+reflect = _check("reflect")
+christoffel = _check("christoffel")
+start_velocity = _check("start_velocity")

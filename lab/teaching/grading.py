@@ -1,69 +1,66 @@
-"""The autograder: run a notebook in a fresh kernel, then the graded checks on what it defined.
+"""The autograder: submissions run in a sandbox, the answers and the verdicts stay outside.
 
-``curvature-lab grade NOTEBOOK.ipynb`` executes the notebook top to bottom
-(nbclient, each cell under a time limit; errors in cells are recorded, not
-fatal), then runs :mod:`lab.check` with ``graded=True`` (the public cases plus
-more) on the objects the notebook's metadata names, in the same kernel.  The
-notebook file is only read, never written.
+``curvature-lab grade NOTEBOOK.ipynb`` (or a folder of submissions) grades a notebook on the tasks of
+its assignment (the instructor's, :mod:`lab.teaching.assignments`):
 
-A notebook declares its tasks in its metadata::
+1. The grader builds every case itself from a fresh seed (recorded in the report; ``--seed`` reproduces
+   a run): control nets, modes, maps, numbers.  It computes the exact answers itself, in this process.
+2. A fresh copy of the submission runs in the sandbox (:mod:`lab.teaching.sandbox`): nbclient and a new
+   kernel execute its cells under time limits, then the student's objects are called on the cases'
+   inputs (:mod:`lab.teaching.child`, :mod:`lab.teaching.harness`).  The sandbox sees no answer, no
+   course file and no network, and the library's reference implementations of the graded tasks are
+   withheld there.  Only plain numbers come back; they are validated (kind, shape, size) and judged here.
+3. Credit is per case (weights in the report); a case that raised, ran out of time or did not run
+   scores 0, the others still count.
 
-    "lab": {"tasks": [{"task": "visualize_curvature", "object": "MyBezierPatches", "points": 10}]}
+This process never runs student code and never writes the submission.  Reports and ``summary.csv`` are
+written after every sandbox has ended, each file atomically.
 """
 
 import argparse
+import concurrent.futures
 import csv
+import io
 import json
 import os
+import secrets
+import shutil
 import sys
+import tempfile
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import nbformat
+import numpy as np
 
-__all__ = ["GradeResult", "grade_notebook", "grade_folder", "run_tasks", "main"]
+from . import assignments as _assignments
+from .protocol import encode_args
+from .sandbox import MEMORY, Sandbox, prepare_package
+from .spec import build_report, judge_outcome
+from .tasks import TASKS
+from .tasks_curvature import ANALYTIC_BLOCK
 
-SENTINEL = "@@LAB-GRADING@@"
+__all__ = ["GradeResult", "Prepared", "grade_notebook", "grade_folder", "main"]
 
-_KERNEL_ENV = {
-    "PYVISTA_OFF_SCREEN": "true",
-    "VTK_DEFAULT_OPENGL_WINDOW": "vtkEGLRenderWindow",
-    "MPLBACKEND": "Agg",
-    "LAB_GRADING": "1",
-}
-
-
-def run_tasks(namespace, tasks, timeout=20.0):
-    """Run the graded checks on objects of ``namespace`` (called inside the notebook's kernel).
-
-    Returns a list of report dictionaries, one per task.
-    """
-    from . import check
-
-    out = []
-    for t in tasks:
-        name, obj_name = t["task"], t.get("object", t["task"])
-        if obj_name not in namespace:
-            rep = check.Report(name, "not implemented", [],
-                               f"{obj_name} is not defined: run the cell that defines it (and keep its name).", True)
-        else:
-            rep = check.run(name, namespace[obj_name], graded=True, timeout=timeout)
-        d = rep.to_dict()
-        d["object"] = obj_name
-        d["points"] = float(t.get("points", 1))
-        d["text"] = str(rep)
-        out.append(d)
-    return out
+#: Largest submission read (bytes).
+MAX_NOTEBOOK = 20 << 20
+#: Largest result file read back from the sandbox (bytes).
+MAX_RESULTS = 64 << 20
 
 
 @dataclass
 class GradeResult:
-    """Scores of one notebook."""
+    """The grade of one notebook."""
 
     notebook: str
+    assignment: str = ""
+    seed: int = None
     tasks: list = field(default_factory=list)
     cell_errors: list = field(default_factory=list)
+    notes: list = field(default_factory=list)
+    missing_protections: list = field(default_factory=list)
     error: str = ""
     seconds: float = 0.0
 
@@ -83,161 +80,276 @@ class GradeResult:
         return all(t["passed"] for t in self.tasks) if self.tasks else not self.cell_errors
 
     def to_dict(self):
-        return {
-            "notebook": self.notebook,
-            "score": self.score,
-            "max_score": self.max_score,
-            "passed": self.passed,
-            "tasks": [{k: v for k, v in t.items() if k != "text"} | {"report": t["text"]} for t in self.tasks],
-            "cell_errors": self.cell_errors,
-            "error": self.error,
-            "seconds": round(self.seconds, 2),
-        }
+        return {"notebook": self.notebook, "assignment": self.assignment, "seed": self.seed, "score": self.score,
+                "max_score": self.max_score, "passed": self.passed, "tasks": self.tasks,
+                "cell_errors": self.cell_errors, "notes": self.notes, "missing_protections": self.missing_protections,
+                "error": self.error, "seconds": round(self.seconds, 2)}
 
     def text(self):
-        lines = [f"{self.notebook}: {self.score:g} / {self.max_score:g} points"]
+        lines = [f"{self.notebook}: {self.score:g} / {self.max_score:g} points"
+                 + (f"  (assignment {self.assignment}, seed {self.seed})" if self.assignment else "")]
         if self.error:
             lines.append(f"  error: {self.error}")
         for t in self.tasks:
-            lines.append(f"- {t['task']} ({t['object']}): {t['points'] * t['score']:g} / {t['points']:g}")
-            lines.extend("    " + line for line in t["text"].splitlines())
-        for e in self.cell_errors:
+            lines.append(f"- {t['task']} ({t['object']}): {t['points'] * t['score']:.4g} / {t['points']:g}")
+            lines.extend("    " + line for line in t["report"].splitlines())
+        errors = [e for e in self.cell_errors if e.get("kind") != "withheld"]
+        withheld = [e["cell"] for e in self.cell_errors if e.get("kind") == "withheld"]
+        for e in errors:
             lines.append(f"  cell {e['cell']}: {e['error']}")
+        if withheld:
+            lines.append(f"  cells {', '.join(map(str, withheld))} use the library's reference implementation, which "
+                         "the graded run withholds (no points depend on them)")
+        lines.extend(f"  note: {n}" for n in self.notes)
+        if self.missing_protections:
+            lines.append("  sandbox: missing " + "; ".join(self.missing_protections))
         return "\n".join(lines)
 
+    def gradescope(self):
+        """Gradescope's ``results.json``: one test per task."""
+        return {
+            "score": self.score,
+            "execution_time": round(self.seconds, 2),
+            "output": self.text(),
+            "visibility": "visible",
+            "tests": [{"name": f"{t['task']} ({t['object']})", "score": round(t["points"] * t["score"], 4),
+                       "max_score": t["points"], "status": "passed" if t["passed"] else "failed",
+                       "output": t["report"]} for t in self.tasks],
+        }
 
-def _tasks_of(nb, path):
-    tasks = nb.metadata.get("lab", {}).get("tasks")
-    if tasks is None:
-        raise ValueError(f"{path} has no task list (metadata 'lab' -> 'tasks'); is it a curvature-lab notebook?")
-    return tasks
+
+class Prepared:
+    """The cases, answers and sandbox package of one assignment for one run (shared by its submissions)."""
+
+    def __init__(self, assignment, seed, workdir):
+        self.assignment, self.seed = assignment, seed
+        streams = np.random.SeedSequence(seed).spawn(len(assignment.tasks))
+        self.cases = [TASKS[name].make_cases(np.random.default_rng(s), True)
+                      for (name, _, _), s in zip(assignment.tasks, streams)]
+        blocked = sorted({q for name, _, _ in assignment.tasks for q in TASKS[name].blocked} | set(ANALYTIC_BLOCK))
+        self.package = prepare_package(blocked, list(TASKS), Path(workdir) / f"pkg-{assignment.id}")
+        self._expected = None
+        self._lock = threading.Lock()
+
+    def expected(self):
+        """The exact answers, per task and case (computed once, on first use)."""
+        with self._lock:
+            if self._expected is None:
+                self._expected = [[TASKS[name].expected(c) for c in cases]
+                                  for (name, _, _), cases in zip(self.assignment.tasks, self.cases)]
+            return self._expected
+
+    def spec(self, notebook, out, cell_timeout, case_timeout):
+        return {"notebook": str(notebook), "out": str(out), "cell_timeout": cell_timeout, "case_timeout": case_timeout,
+                "tasks": [{"task": name, "object": obj, "protocol": TASKS[name].protocol,
+                           "cases": [encode_args(c.args) for c in cases]}
+                          for (name, obj, _), cases in zip(self.assignment.tasks, self.cases)]}
 
 
-def grade_notebook(path, *, timeout=60, check_timeout=20.0, kernel_name="python3"):
-    """Execute ``path`` in a fresh kernel and grade its tasks. The file is not modified.
+def _read_results(path, n):
+    """The outcome of each case from the sandbox's JSON lines (the last line per index counts)."""
+    found = {}
+    if path.is_file() and path.stat().st_size <= MAX_RESULTS:
+        for line in path.read_text(errors="replace").splitlines():
+            try:
+                item = json.loads(line)
+            except ValueError:
+                continue
+            if isinstance(item, dict) and isinstance(item.get("index"), int) and 0 <= item["index"] < n:
+                found[item["index"]] = item
+    return found
+
+
+def _grade_in_sandbox(raw, prepared, *, timeout, check_timeout, total_timeout, memory, use_sandbox):
+    """Run the submission ``raw`` in a sandbox; return (outcomes per task, cell info, missing protections, note)."""
+    with tempfile.TemporaryDirectory(prefix="lab-grade-") as tmp:
+        work = Path(tmp) / "work"
+        (work / "out").mkdir(parents=True)
+        box = Sandbox(prepared.package, work, memory=memory, use_bwrap=use_sandbox)
+        inside = box.inside
+        (work / "submission.ipynb").write_bytes(raw)
+        spec = prepared.spec(inside / "submission.ipynb", inside / "out", timeout, check_timeout)
+        (work / "spec.json").write_text(json.dumps(spec))
+        result = {}
+
+        def run():
+            result["run"] = box.run([sys.executable, "-m", "lab.teaching.child", str(inside / "spec.json")],
+                                    total_timeout)
+
+        worker = threading.Thread(target=run)
+        worker.start()
+        prepared.expected()  # the answers, while the sandbox runs
+        worker.join()
+        code, timed_out, stderr = result["run"]
+        outcomes = [_read_results(work / "out" / f"task-{k}.jsonl", len(cases)) for k, cases in enumerate(prepared.cases)]
+        try:
+            info = json.loads((work / "out" / "cells.json").read_text())
+            cell_errors = [e for e in info["cell_errors"] if isinstance(e, dict)][:200]
+        except (OSError, ValueError, KeyError, TypeError):
+            cell_errors = []
+        note = ""
+        if timed_out:
+            note = f"the submission was stopped after {total_timeout:g} s (its time limit); cases not reached score 0"
+        elif code != 0 and not (work / "out" / "cells.json").exists():
+            note = f"the graded run ended abnormally (exit status {code}): {stderr.strip()[-300:]}"
+        return outcomes, cell_errors, box.missing, note
+
+
+def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeout=10.0, total_timeout=600,
+                   memory=MEMORY, sandbox=None, prepared=None):
+    """Grade one notebook in a sandbox; the file is only read.
 
     Parameters
     ----------
     path : str or Path
+    assignment : str or Path, optional
+        The instructor's notebook, or a folder of them (default: the project's ``exercises/``).
+    seed : int, optional
+        Seed of the cases (default: fresh; recorded in the result).
     timeout : float
-        Seconds each cell may run; a cell that runs longer is interrupted and
-        recorded as an error, and the following cells still run.
-    check_timeout : float
-        Seconds each student function may run inside a check.
+        Seconds each cell may run; ``check_timeout`` seconds each call of the student's code;
+        ``total_timeout`` seconds the whole submission.
+    memory : int
+        Address-space limit per process in the sandbox, bytes.
+    sandbox : bool, optional
+        Use bubblewrap (default: when it works here); without it, limits and a process group only.
+    prepared : Prepared, optional
+        Cases and answers shared by a folder run.
     """
-    from nbclient import NotebookClient
-    from nbclient.exceptions import CellTimeoutError, DeadKernelError
-
-    path = Path(path)
     start = time.perf_counter()
-    raw = path.read_bytes()
+    path = Path(path)
+    result = GradeResult(str(path))
     try:
+        if path.stat().st_size > MAX_NOTEBOOK:
+            raise ValueError(f"the notebook is larger than {MAX_NOTEBOOK >> 20} MiB")
+        raw = path.read_bytes()
         nb = nbformat.reads(raw.decode("utf-8"), as_version=4)
     except Exception as exc:  # unreadable notebook: a result, not a crash
-        return GradeResult(str(path), error=f"cannot read the notebook: {type(exc).__name__}: {exc}")
+        result.error = f"cannot read the notebook: {type(exc).__name__}: {exc}"
+        return result
     try:
-        tasks = _tasks_of(nb, path)
-    except ValueError as exc:
-        return GradeResult(str(path), error=str(exc))
-    result = GradeResult(str(path))
-    saved_env = {k: os.environ.get(k) for k in _KERNEL_ENV}
-    os.environ.update(_KERNEL_ENV)
-    client = NotebookClient(
-        nb, timeout=timeout, kernel_name=kernel_name, allow_errors=True, interrupt_on_timeout=True,
-        resources={"metadata": {"path": str(path.parent.resolve())}},
-        extra_arguments=["--IPKernelApp.log_level=ERROR"],  # no transport warnings in the report
-    )
+        found, result.notes = _assignments.for_submission(nb, path, assignment)
+    except _assignments.AssignmentError as exc:
+        result.error = str(exc)
+        return result
+    own = None
+    if prepared is None or prepared.assignment != found:
+        own = tempfile.mkdtemp(prefix="lab-grade-pkg-")
+        prepared = Prepared(found, secrets.randbelow(2**32) if seed is None else int(seed), own)
     try:
-        with client.setup_kernel():
-            for index, cell in enumerate(nb.cells):
-                if cell.cell_type != "code":
-                    continue
-                try:
-                    client.execute_cell(cell, index)
-                except CellTimeoutError:
-                    result.cell_errors.append({"cell": index, "error": f"stopped after {timeout:g} s (endless loop?)"})
-                    continue
-                for out in cell.get("outputs", []):
-                    if out.get("output_type") != "error":
-                        continue
-                    if out["ename"] == "KeyboardInterrupt":  # nbclient interrupted the cell at the time limit
-                        message = f"stopped after {timeout:g} s (endless loop?)"
-                    else:
-                        message = f"{out['ename']}: {out['evalue']}"
-                    result.cell_errors.append({"cell": index, "error": message})
-            code = (
-                "import json as _json, lab.teaching.grading as _grading\n"
-                f"print({SENTINEL!r} + _json.dumps(_grading.run_tasks(globals(), {tasks!r}, {check_timeout!r})))"
-            )
-            cell = nbformat.v4.new_code_cell(code)
-            nb.cells.append(cell)  # the in-memory copy only; the file is never written
-            client.execute_cell(cell, len(nb.cells) - 1)
-            text = "".join(o.get("text", "") for o in cell.outputs if o.get("output_type") == "stream")
-            errors = [f"{o['ename']}: {o['evalue']}" for o in cell.outputs if o.get("output_type") == "error"]
-            if SENTINEL not in text:
-                result.error = "the graded checks did not run: " + ("; ".join(errors) or "no output")
-            else:
-                result.tasks = json.loads(text.split(SENTINEL, 1)[1].strip().splitlines()[0])
-    except DeadKernelError as exc:
-        result.error = f"the kernel died: {exc}"
-    except Exception as exc:  # the grader reports, it does not crash
-        result.error = f"{type(exc).__name__}: {exc}"
+        result.assignment, result.seed = found.id, prepared.seed
+        outcomes, result.cell_errors, result.missing_protections, note = _grade_in_sandbox(
+            raw, prepared, timeout=timeout, check_timeout=check_timeout, total_timeout=total_timeout, memory=memory,
+            use_sandbox=sandbox)
+        expected = prepared.expected()
     finally:
-        for k, v in saved_env.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
-    if path.read_bytes() != raw:  # pragma: no cover - guarded by design, checked by the tests
-        result.error = "the notebook changed on disk while grading"
+        if own is not None:
+            shutil.rmtree(own, ignore_errors=True)
+    if note:
+        result.notes.append(note)
+    for k, (name, obj, points) in enumerate(found.tasks):
+        task = TASKS[name]
+        judged = []
+        for i, case in enumerate(prepared.cases[k]):
+            out = outcomes[k].get(i, {"status": "not run", "message": "the graded run ended before this case"})
+            judged.append(judge_outcome(task, case, out, lambda k=k, i=i: expected[k][i]))
+        report = build_report(task, prepared.cases[k], judged, graded=True, seed=prepared.seed)
+        result.tasks.append({**report.to_dict(), "object": obj, "points": points, "report": str(report)})
     result.seconds = time.perf_counter() - start
     return result
 
 
-def grade_folder(folder, out_dir, **kwargs):
-    """Grade every notebook under ``folder``; write one report per notebook and ``summary.csv`` to ``out_dir``.
+def _student(folder, nb_path):
+    rel = nb_path.relative_to(folder)
+    return (rel.parts[0] if len(rel.parts) > 1 else nb_path.stem), rel
 
-    A submission is either ``folder/<student>.ipynb`` or ``folder/<student>/<notebook>.ipynb``.
+
+def _write_atomic(path, text):
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt="text", **kwargs):
+    """Grade every notebook under ``folder`` in parallel sandboxes; write reports and ``summary.csv`` to ``out_dir``.
+
+    A submission is ``folder/<student>.ipynb`` or ``folder/<student>/<notebook>.ipynb``.  One seed serves
+    the whole run (recorded in every report).  Nothing is written until every sandbox has ended.
     """
-    folder, out_dir = Path(folder), Path(out_dir)
+    folder, out_dir = Path(folder).resolve(), Path(out_dir)
+    notebooks = sorted(p for p in folder.rglob("*.ipynb")
+                       if ".ipynb_checkpoints" not in p.parts and not p.resolve().is_relative_to(out_dir.resolve()))
+    seed = secrets.randbelow(2**32) if seed is None else int(seed)
+    jobs = max(1, jobs or os.cpu_count() or 1)
+    tmp = tempfile.mkdtemp(prefix="lab-grade-pkg-")
+    prepared, lock = {}, threading.Lock()
+
+    def one(nb_path):
+        try:
+            nb = nbformat.read(str(nb_path), as_version=4)
+            found, _ = _assignments.for_submission(nb, nb_path, assignment)
+        except Exception:  # grade_notebook reports it
+            return grade_notebook(nb_path, assignment=assignment, seed=seed, **kwargs)
+        with lock:
+            if found.id not in prepared:
+                prepared[found.id] = Prepared(found, seed, tmp)
+        return grade_notebook(nb_path, assignment=assignment, prepared=prepared[found.id], **kwargs)
+
+    try:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+            results = list(pool.map(one, notebooks))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
     out_dir.mkdir(parents=True, exist_ok=True)
-    results = []
-    for nb_path in sorted(p for p in folder.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts):
-        rel = nb_path.relative_to(folder)
-        student = rel.parts[0] if len(rel.parts) > 1 else nb_path.stem
-        res = grade_notebook(nb_path, **kwargs)
+    rows = []
+    for nb_path, res in zip(notebooks, results):
+        student, rel = _student(folder, nb_path)
+        res.notebook = str(rel)
         stem = "__".join(rel.with_suffix("").parts)
-        (out_dir / f"{stem}.json").write_text(json.dumps(res.to_dict(), indent=2, ensure_ascii=False))
-        (out_dir / f"{stem}.txt").write_text(res.text() + "\n")
-        results.append((student, rel, res))
-    with open(out_dir / "summary.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["student", "notebook", "score", "max_score", "passed", "tasks", "error"])
-        for student, rel, res in results:
-            tasks = "; ".join(f"{t['task']}={t['points'] * t['score']:g}/{t['points']:g}" for t in res.tasks)
-            w.writerow([student, str(rel), res.score, res.max_score, res.passed, tasks, res.error])
-    return [r for _, _, r in results]
+        _write_atomic(out_dir / f"{stem}.json", json.dumps(res.to_dict(), indent=2, ensure_ascii=False))
+        _write_atomic(out_dir / f"{stem}.txt", res.text() + "\n")
+        if fmt == "gradescope":
+            _write_atomic(out_dir / f"{stem}.results.json", json.dumps(res.gradescope(), indent=2, ensure_ascii=False))
+        tasks = "; ".join(f"{t['task']}={t['points'] * t['score']:.4g}/{t['points']:g}" for t in res.tasks)
+        rows.append([student, str(rel), res.score, res.max_score, res.passed, res.assignment, res.seed, tasks,
+                     res.error])
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(["student", "notebook", "score", "max_score", "passed", "assignment", "seed", "tasks", "error"])
+    w.writerows(rows)
+    _write_atomic(out_dir / "summary.csv", buf.getvalue())
+    return results
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab grade",
-        description="Grade a curvature-lab notebook (or a folder of submissions) in a fresh kernel.",
-    )
+        description="Grade curvature-lab notebooks (one, or a folder of submissions) in a sandbox.")
     parser.add_argument("path", help="a notebook, or a folder of submissions")
-    parser.add_argument("--json", action="store_true", help="print a machine-readable report")
-    parser.add_argument("--timeout", type=float, default=60, help="seconds per cell (default 60)")
-    parser.add_argument("--check-timeout", type=float, default=20, help="seconds per checked function (default 20)")
+    parser.add_argument("--assignment", help="the instructor's notebook, or a folder of them (default: exercises/)")
     parser.add_argument("--out", help="folder for the reports and summary.csv (folder mode; default: <path>-reports)")
+    parser.add_argument("-j", "--jobs", type=int, default=None, help="submissions graded in parallel (default: all cores)")
+    parser.add_argument("--seed", type=int, default=None, help="seed of the cases (default: fresh, recorded in the report)")
+    parser.add_argument("--format", choices=("text", "json", "gradescope"), default="text", help="report format")
+    parser.add_argument("--json", action="store_true", help="the same as --format json")
+    parser.add_argument("--timeout", type=float, default=60, help="seconds per cell (default 60)")
+    parser.add_argument("--check-timeout", type=float, default=10, help="seconds per call of the student's code (default 10)")
+    parser.add_argument("--total-timeout", type=float, default=600, help="seconds per submission (default 600)")
+    parser.add_argument("--memory", type=int, default=MEMORY >> 20, help="MiB of address space per process (default 2048)")
+    parser.add_argument("--no-sandbox", action="store_true", help="do not use bubblewrap (limits and a process group only)")
     args = parser.parse_args(argv)
+    fmt = "json" if args.json else args.format
     path = Path(args.path)
     if not path.exists():
         parser.error(f"{path} does not exist")
-    kwargs = {"timeout": args.timeout, "check_timeout": args.check_timeout}
+    if args.jobs is not None and args.jobs < 1:
+        parser.error(f"--jobs must be at least 1; got {args.jobs}")
+    kwargs = {"timeout": args.timeout, "check_timeout": args.check_timeout, "total_timeout": args.total_timeout,
+              "memory": args.memory << 20, "sandbox": False if args.no_sandbox else None}
     if path.is_dir():
         out = Path(args.out) if args.out else path.with_name(path.name + "-reports")
-        results = grade_folder(path, out, **kwargs)
-        if args.json:
+        results = grade_folder(path, out, jobs=args.jobs, assignment=args.assignment, seed=args.seed, fmt=fmt, **kwargs)
+        if fmt == "json":
             print(json.dumps([r.to_dict() for r in results], indent=2, ensure_ascii=False))
         else:
             for r in results:
@@ -246,8 +358,16 @@ def main(argv=None):
         return 0 if results and all(r.passed for r in results) else 1
     if path.suffix != ".ipynb":
         parser.error(f"expected a .ipynb notebook or a folder; got {path}")
-    result = grade_notebook(path, **kwargs)
-    print(json.dumps(result.to_dict(), indent=2, ensure_ascii=False) if args.json else result.text())
+    result = grade_notebook(path, assignment=args.assignment, seed=args.seed, **kwargs)
+    if fmt == "gradescope":
+        text = json.dumps(result.gradescope(), indent=2, ensure_ascii=False)
+        if args.out:
+            Path(args.out).mkdir(parents=True, exist_ok=True)
+            _write_atomic(Path(args.out) / "results.json", text)
+        else:
+            print(text)
+    else:
+        print(json.dumps(result.to_dict(), indent=2, ensure_ascii=False) if fmt == "json" else result.text())
     return 0 if result.passed else 1
 
 

@@ -1,9 +1,12 @@
-"""Hints that name a student's mistake: the output is compared with the deliberately wrong variants."""
+"""Hints that name a student's mistake: the result is compared with the computation done each classic wrong way."""
 
 import numpy as np
 
 from ..geometry import colormaps
-from .references import MODE_FIELD, _expected_colors, _variant_corner_derivatives, _variant_curvature
+from .references import MODE_FIELD, NET_NAMES, degree_factor, expected_colors, variant_corner_derivatives, variant_curvature
+from .spec import close as _close
+
+__all__ = ["VARIANT_HINTS", "diagnose_values", "diagnose_colors", "visualize_error_hint"]
 
 VARIANT_HINTS = {
     "corner_order": "set_curvature(c00, c01, c10, c11) and set_colors(...) take c01 = the value at u = 0, v = 1; "
@@ -22,81 +25,109 @@ VARIANT_HINTS = {
     "mode_ignored": "the values do not depend on curvature_mode: choose K, H, κ1 or κ2 according to it.",
 }
 
+_UMBILIC = ("at umbilic points (κ1 = κ2, e.g. the vertex of a paraboloid) rounding makes H² − K slightly negative: "
+            "use √(max(H² − K, 0)).")
+_F2_ZERO = ("all curvature values are equal, so κmax − κmin = 0: f2 must not divide by zero "
+            "(give 0.5, green, in that case).")
 
-def _diagnose_values(nets, mode, got, expected):
-    """Name the classic mistake whose values match ``got``."""
+
+def _values(nets, field_name, variant=None, net_variant=None):
+    return np.stack([variant_curvature(variant_corner_derivatives(P, net_variant), variant)[field_name] for P in nets])
+
+
+def diagnose_values(nets, mode, got, expected):
+    """Name the classic mistake whose corner values (N, 2, 2) match ``got``."""
     field_name = MODE_FIELD[mode]
+    scale = max(float(np.max(np.abs(expected))), 1e-300)  # relative to the case's own values (tiny on large models)
+
+    def close(a, b):
+        return _close(a, b, scale=scale)
+
     if np.any(np.isnan(got)):
-        return (
-            "some values are NaN. At umbilic points (κ1 = κ2, e.g. the vertex of a paraboloid) rounding makes "
-            "H² − K slightly negative: use √(max(H² − K, 0))."
-        )
-    if _close(got, np.swapaxes(expected, 1, 2)):
+        return "some values are NaN. " + _UMBILIC[0].upper() + _UMBILIC[1:]
+    if close(got, np.swapaxes(expected, 1, 2)):
         return VARIANT_HINTS["corner_order"]
     for variant in ("no_factors", "second_factor", "swapped_degrees"):
-        vals = np.stack([_variant_curvature(_variant_corner_derivatives(P, variant))[field_name] for P in nets])
-        if _close(got, vals):
+        if close(got, _values(nets, field_name, net_variant=variant)):
             return VARIANT_HINTS[variant]
+    for net in NET_NAMES:  # one net without its degree factor
+        if close(got, _values(nets, field_name, net_variant=f"missing:{net}")):
+            text, _ = degree_factor(nets[0], net)
+            ratio = _ratio(got, expected)
+            off = f" (your values are {ratio:.6g} times the right ones)" if ratio is not None else ""
+            return f"b_{net[1:]} lacks its degree factor {text}{off}: practical section 3."
     for variant in ("unnormalised", "orientation", "no_half", "principal_swapped"):
-        vals = np.stack([_variant_curvature(_variant_corner_derivatives(P), variant)[field_name] for P in nets])
-        if _close(got, vals):
+        if close(got, _values(nets, field_name, variant)):
             return VARIANT_HINTS[variant]
     for other in MODE_FIELD.values():
-        if other != field_name:
-            vals = np.stack([_variant_curvature(_variant_corner_derivatives(P))[other] for P in nets])
-            if _close(got, vals):
-                return VARIANT_HINTS["mode_ignored"] + f" (you stored {other}, expected {field_name})"
+        if other != field_name and close(got, _values(nets, other)):
+            return VARIANT_HINTS["mode_ignored"] + f" (you stored {other}, expected {field_name})"
+    ratio = _ratio(got, expected)
+    if ratio is not None:
+        m, n = nets[0].shape[0] - 1, nets[0].shape[1] - 1
+        names = {m: "m", n: "n", m * m: "m²", n * n: "n²", 1 / m: "1/m", 1 / n: "1/n", 1 / m**2: "1/m²", 1 / n**2: "1/n²"}
+        for value, name in names.items():
+            if value != 1 and abs(ratio - value) <= 1e-6 * abs(value):
+                return (f"your values are exactly {name} = {value:g} times the right ones: a degree factor is missing "
+                        "or doubled in a derivative net (practical section 3).")
     return "compare your formulas with practical eqs. (3), (4) and section 3."
 
 
-def _close(a, b, rtol=1e-7):
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
-    if a.shape != b.shape or np.any(np.isnan(a)) or np.any(np.isnan(b)):
-        return False
-    scale = max(1.0, float(np.max(np.abs(b)))) if b.size else 1.0
-    return bool(np.all(np.abs(a - b) <= rtol * scale))
+def _ratio(got, expected):
+    """The common ratio got / expected where expected is not 0, if there is one."""
+    got, expected = np.asarray(got, dtype=float), np.asarray(expected, dtype=float)
+    if got.shape != expected.shape:
+        return None
+    nz = np.abs(expected) > 1e-12 * max(1e-300, float(np.max(np.abs(expected), initial=0.0)))
+    if not np.any(nz):
+        return None
+    r = got[nz] / expected[nz]
+    return float(r[0]) if np.allclose(r, r[0], rtol=1e-6, atol=0) else None
 
 
-def _fmt(x, digits=6):
-    arr = np.asarray(x, dtype=float)
-    return np.array2string(arr, precision=digits, suppress_small=False, max_line_width=100, threshold=12)
+def close(a, b, rtol=1e-7):
+    return _close(a, b, rtol)
 
 
-
-
-def _error_hint(message, values):
-    """A hint for an exception in visualize_curvature, from its message and the case's values."""
-    if "math domain error" in message or ("NaN" in message and np.ptp(values) > 0):
-        return ("\nhint: at umbilic points (κ1 = κ2) rounding makes H² − K slightly negative, and the square "
-                "root fails: use √(max(H² − K, 0)).")
-    if "ZeroDivision" in message or ("NaN" in message and np.ptp(values) == 0):
-        return ("\nhint: all curvature values are equal here, so κmax − κmin = 0: f2 must not divide by zero "
-                "(give 0.5, green, in that case).")
-    return ""
-
-
-def _diagnose_colors(values, got, cmap, n_patches):
+def diagnose_colors(values, got, cmap, tol):
+    """Name the mistake behind wrong colours for exact corner ``values`` (N, 2, 2) under the map ``cmap``."""
     if np.any(np.isnan(got)):
         if cmap == "linear" and np.ptp(values) == 0:
-            return ("all curvature values are equal, so κmax − κmin = 0: f2 must not divide by zero "
-                    "(give 0.5, green, in that case).")
+            return _F2_ZERO
         return "some colours are NaN."
-    if _close(got, np.swapaxes(_expected_colors(values, cmap), 1, 2), rtol=1e-6):
+    if close(got, np.swapaxes(expected_colors(values, cmap), 1, 2), rtol=1e-6):
         return VARIANT_HINTS["corner_order"]
     if cmap == "linear":
         per_patch = np.stack([colormaps.h(colormaps.f2(v, rtol=0)) for v in values])
-        if _close(got, per_patch, rtol=1e-6):
+        if close(got, per_patch, rtol=1e-6):
             return "κmin and κmax are the minimum and maximum over the corners of ALL patches, not per patch."
+        if np.ptp(values) <= tol:
+            return ("the exact values are all equal (a flat patch), but your colours vary: the computed values differ "
+                    "only by rounding noise, so κmax − κmin must count as 0 below a tolerance relative to the model's "
+                    "size (e.g. 1e-9 / size² for K), giving 0.5 (green) everywhere.")
     if cmap == "classification":
-        noisy = np.abs(values) == 0
-        if np.any(noisy):
-            return ("at K = 0 (flat or parabolic points) the computed values are rounding noise like 1e-17: "
+        zero = np.abs(values) <= tol
+        green = np.all(np.abs(got - colormaps.h(0.5)) < 1e-6, axis=-1)
+        if np.any(zero & ~green):
+            return ("where K = 0 (flat or parabolic points) the computed values are rounding noise like 1e-17: "
                     "f3 must compare with a tolerance, not with == 0.")
+        if np.any(~zero & green):
+            return ("genuinely curved points are painted as K = 0: your f3 tolerance is absolute and too large for this "
+                    "model (here |K| is about 1e-4 relative to the model's size). Scale the tolerance with the model, "
+                    "e.g. 1e-9 / size² for K.")
     for other in ("linear", "cut", "classification"):
-        if other != cmap and _close(got, _expected_colors(values, other), rtol=1e-6):
+        if other != cmap and close(got, expected_colors(values, other), rtol=1e-6):
             return f"these are the colours of the {other} map; use the colour map given by color_map."
     return "apply the colour map to the curvature values, then h (practical section 4)."
 
 
-#: The tasks the autograder knows: name -> check function.
+def visualize_error_hint(case, message, values):
+    """A hint for an exception in visualize_curvature, from its message and the case's exact values."""
+    nets = case.args[0]
+    if "IndexError" in message and nets.shape[1] != nets.shape[2]:
+        return VARIANT_HINTS["swapped_degrees"] + " (Here it raised an IndexError on a non-square patch.)"
+    if "math domain error" in message or ("NaN" in message and np.ptp(values) > 0):
+        return _UMBILIC
+    if "ZeroDivision" in message or ("NaN" in message and np.ptp(values) == 0):
+        return _F2_ZERO
+    return ""

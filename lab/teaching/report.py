@@ -1,23 +1,67 @@
-"""Results of a check: :class:`Case` (one test case) and :class:`Report` (status, cases, first failure, hint)."""
+"""Results of a check: :class:`Case` (one test case with its status) and :class:`Report` (a task's cases and score).
+
+The same report serves the in-notebook check (self-study) and the grader.  A task's credit is per case:
+each case has a weight, and the score is the weighted fraction of passed cases, so an exception in one
+case does not zero the others.  A case that did not run scores 0 and says "not run", never "passed".
+"""
 
 import html
 from dataclasses import asdict, dataclass, field
 
-__all__ = ["Case", "Report"]
+__all__ = ["Case", "Report", "STATUSES"]
 
+#: Statuses of a case (and of a task): the student's code ran and was right, was wrong, raised, is a stub,
+#: ran too long, called the library's reference implementation, or was never reached.
+STATUSES = ("passed", "failed", "error", "not implemented", "timeout", "delegated", "not run")
 
-# -- reports ----------------------------------------------------------------------
+_MARK = {"passed": "✔", "not run": "·"}
+_HEAD = {
+    "passed": "✔ {task}: all {n} cases passed.",
+    "failed": "✘ {task}: {k} of {n} cases passed.",
+    "not implemented": "… {task}: not implemented yet.",
+    "error": "✘ {task}: your code raised an error ({k} of {n} cases passed).",
+    "timeout": "✘ {task}: stopped, it ran too long ({k} of {n} cases passed).",
+    "delegated": "✘ {task}: uses the library's reference implementation ({k} of {n} cases passed).",
+    "not run": "✘ {task}: the check did not run.",
+}
 
 
 @dataclass
 class Case:
-    """One test case of a check."""
+    """One test case: its status, and for a failure what was expected, what came out and a hint."""
 
     name: str
     passed: bool
     expected: str = ""
     got: str = ""
     hint: str = ""
+    status: str = ""
+    weight: float = 1.0
+
+    def __post_init__(self):
+        if not self.status:
+            self.status = "passed" if self.passed else "failed"
+        if self.status not in STATUSES:
+            raise ValueError(f"case status must be one of {STATUSES}; got {self.status!r}")
+        self.passed = self.status == "passed"
+
+
+def task_status(cases, default="not run"):
+    """The status of a task from its cases: the most telling status among the cases that did not pass."""
+    if not cases:
+        return default
+    statuses = [c.status for c in cases]
+    if all(s == "passed" for s in statuses):
+        return "passed"
+    ran = [s for s in statuses if s != "not run"]
+    if not ran:
+        return "not run"
+    if all(s == "not implemented" for s in ran):
+        return "not implemented"
+    for s in ("delegated", "timeout", "error"):
+        if s in ran:
+            return s
+    return "failed"
 
 
 @dataclass
@@ -25,10 +69,11 @@ class Report:
     """The result of one check: status, cases, and for the first failure what was expected and a hint."""
 
     task: str
-    status: str  # "passed", "failed", "not implemented", "error", "timeout", "delegated"
+    status: str
     cases: list = field(default_factory=list)
     message: str = ""
     graded: bool = False
+    seed: int = None
 
     @property
     def passed(self):
@@ -36,35 +81,30 @@ class Report:
 
     @property
     def score(self):
-        """Fraction of passed cases (0 unless the code ran)."""
-        if not self.cases or self.status in ("not implemented", "error", "timeout", "delegated"):
-            return 0.0
-        return sum(c.passed for c in self.cases) / len(self.cases)
+        """Weighted fraction of passed cases (0 when no case passed or none ran)."""
+        total = sum(c.weight for c in self.cases)
+        return sum(c.weight for c in self.cases if c.status == "passed") / total if total else 0.0
 
     def to_dict(self):
         d = asdict(self)
-        for c in d["cases"]:
-            c["passed"] = bool(c["passed"])
         d["score"] = self.score
         d["passed"] = self.passed
         return d
 
     def lines(self):
-        head = {
-            "passed": "✔ {task}: all {n} cases passed.",
-            "failed": "✘ {task}: {k} of {n} cases passed.",
-            "not implemented": "… {task}: not implemented yet.",
-            "error": "✘ {task}: your code raised an error.",
-            "timeout": "✘ {task}: stopped, it ran too long.",
-            "delegated": "✘ {task}: uses the library's reference implementation.",
-        }[self.status]
-        n, k = len(self.cases), sum(c.passed for c in self.cases)
-        out = [head.format(task=self.task, n=n, k=k)]
+        n, k = len(self.cases), sum(c.status == "passed" for c in self.cases)
+        out = [_HEAD[self.status].format(task=self.task, n=n, k=k)]
         if self.message:
             out.append("  " + self.message.replace("\n", "\n  "))
+        weights = {c.weight for c in self.cases}
         for c in self.cases:
-            out.append(f"  {'✔' if c.passed else '✘'} {c.name}")
-        failed = [c for c in self.cases if not c.passed]
+            extra = "" if c.status in ("passed", "failed") else f"  ({c.status})"
+            weight = f"  [weight {c.weight:g}]" if len(weights) > 1 else ""
+            out.append(f"  {_MARK.get(c.status, '✘')} {c.name}{extra}{weight}")
+        if self.graded and self.cases:
+            out.append("  credit: " + ("each case counts equally" if len(weights) == 1 else
+                                       "weighted as shown") + f" ({n} cases).")
+        failed = [c for c in self.cases if c.status not in ("passed", "not run")]
         if failed:
             c = failed[0]
             out.append(f"First failing case: {c.name}")
@@ -74,6 +114,9 @@ class Report:
                 out.append(f"  got:      {c.got}")
             if c.hint:
                 out.append(f"  hint:     {c.hint}")
+            others = [f"{o.name} ({o.hint or o.status})" for o in failed[1:] if o.hint != c.hint or o.status != c.status]
+            if others:
+                out.append("Other failing cases: " + "; ".join(others[:6]) + (" …" if len(others) > 6 else ""))
         if self.passed and not self.graded:
             out.append("Public checks passed; the graded run adds more cases.")
         return out
@@ -88,16 +131,3 @@ class Report:
         colour = "#1a7f37" if self.passed else ("#9a6700" if self.status == "not implemented" else "#cf222e")
         body = html.escape("\n".join(self.lines()))
         return f'<pre style="border-left:4px solid {colour};padding:0.4em 0.8em;white-space:pre-wrap">{body}</pre>'
-
-
-class _Stop(Exception):
-    """Ends a check early with a status and message."""
-
-    def __init__(self, status, message):
-        super().__init__(message)
-        self.status = status
-        self.message = message
-
-
-class _TimeUp(BaseException):
-    """Raised inside student code when the time limit is reached (BaseException: `except Exception` cannot hide it)."""

@@ -1,193 +1,217 @@
-"""Checks of the colour tasks (notebooks 04, 05): h, f1, f2, f3 and the practical's visualize_curvature."""
-
-import inspect
+"""The colour tasks (notebooks 04, 05): h, f1, f2, f3 and the practical's visualize_curvature."""
 
 import numpy as np
 
 from ..geometry import colormaps
+from ..geometry.curvature import zero_tolerance
 from ..model.patches import BezierPatches
-from .hints import _close, _diagnose_colors, _diagnose_values, _error_hint, _fmt
-from .references import MODE_FIELD, _exact_corners, _expected_colors, _rand_net
-from .report import Case, Report, _Stop
-from .runner import _COLOR_BLOCK, DEFAULT_TIMEOUT, _call, _report, _rng, _visualize_block
+from .hints import diagnose_colors, diagnose_values, visualize_error_hint
+from .references import MODE_FIELD, exact_corners, expected_colors, model_size, rand_net, value_tolerance
+from .spec import CaseSpec, Task, close, fmt
+from .tasks_curvature import BEZIER_BLOCK, CURVATURE_BLOCK
 
-__all__ = ["h", "f1", "f2", "f3", "visualize_curvature"]
+__all__ = ["H", "F1", "F2", "F3", "VISUALIZE_CURVATURE", "COLOR_BLOCK", "VISUALIZE_BLOCK"]
 
-
-def _numeric_task(task, func, samples, expected_fn, diagnose, *, graded, timeout, shape_text, blocked=None):
-    """Run ``func(*args)`` for every ``(name, args)`` and compare with ``expected_fn(*args)`` (rtol 1e-9)."""
-
-    def cases():
-        for name, args in samples:
-            exp = np.asarray(expected_fn(*args), dtype=float)
-            got = _call(task, func, func, tuple(np.array(a, copy=True) if isinstance(a, np.ndarray) else a
-                                                for a in args), timeout=timeout, blocked=blocked)
-            try:
-                val = np.asarray(got, dtype=float)
-                assert val.shape == exp.shape
-            except (TypeError, ValueError, AssertionError):
-                yield Case(name, False, shape_text, repr(got)[:200], f"return {shape_text}.")
-                continue
-            ok = bool(np.all(np.isfinite(val))) and _close(val, exp, rtol=1e-9)
-            yield Case(name, ok, _fmt(exp), _fmt(val), "" if ok else diagnose(args, val, exp))
-
-    return _report(task, graded, cases)
+COLOR_BLOCK = tuple(f"lab.geometry.colormaps.{name}" for name in ("h", "f1", "f2", "f3", "apply", "colors_for"))
+VISUALIZE_BLOCK = CURVATURE_BLOCK + BEZIER_BLOCK + (
+    "lab.geometry.colormaps.apply",
+    "lab.geometry.colormaps.colors_for",
+    "lab.geometry.curvature.curvature_values",
+    "lab.model.patches.BezierPatches.visualize_curvature",
+    "lab.model.patches.BezierPatches.corner_curvature",
+    "lab.model.patches.BezierPatches.corner_derivatives",
+    "lab.model.patches.BezierPatches.curvature_at",
+    "lab.model.patches.BezierPatches.derivatives",
+    "lab.model.surface.Surface.curvature",
+    "lab.model.surface.Surface.derivatives",
+    "lab.model.surface.Surface.fundamental_forms",
+)
 
 
-def h(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
-    """Check the colour ramp ``func(x)`` → (r, g, b) of practical section 4."""
-    rng = _rng(seed)
+def _scalar_judge(hint_fn, what="one number"):
+    def judge(case, value, exp):
+        exp = np.asarray(exp, dtype=float)
+        if not isinstance(value, np.ndarray) or value.shape != exp.shape:
+            return False, fmt(exp), fmt(value) if isinstance(value, np.ndarray) else repr(value), f"return {what}."
+        ok = bool(np.all(np.isfinite(value))) and close(value, exp, rtol=1e-9)
+        return ok, fmt(exp), fmt(value), "" if ok else hint_fn(case.args, value, exp)
+
+    return judge
+
+
+# -- h, f1, f2, f3 ----------------------------------------------------------------------------------------
+
+
+def _h_cases(rng, graded):
     xs = [0.0, 0.25, 0.5, 0.75, 1.0] + list(np.round(rng.uniform(0, 1, 6 if graded else 3), 4))
-
-    def hint(args, val, exp):
-        x = args[0]
-        if np.all(val == np.round(val)) and np.max(val) > 1:
-            return "colours are (r, g, b) in [0, 1], not 0–255."
-        piece = min(int(x * 4), 3)
-        return f"check the piece for x in [{piece / 4:g}, {(piece + 1) / 4:g}]: " + [
-            "(0, 4x, 1)", "(0, 1, 2 − 4x)", "(4x − 2, 1, 0)", "(1, 4 − 4x, 0)"][piece]
-
-    return _numeric_task("h", func, [(f"h({x:g})", (float(x),)) for x in xs], lambda x: colormaps.h(x), hint,
-                         graded=graded, timeout=timeout, shape_text="an (r, g, b) tuple", blocked=_COLOR_BLOCK)
+    return [CaseSpec(f"h({x:g})", (float(x),)) for x in xs]
 
 
-def f1(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
-    """Check the cut map ``func(x)`` (f1 of practical section 4)."""
-    rng = _rng(seed)
+def _h_hint(args, val, exp):
+    x = args[0]
+    if np.all(val == np.round(val)) and np.max(val) > 1:
+        return "colours are (r, g, b) in [0, 1], not 0–255."
+    piece = min(int(x * 4), 3)
+    return f"check the piece for x in [{piece / 4:g}, {(piece + 1) / 4:g}]: " + [
+        "(0, 4x, 1)", "(0, 1, 2 − 4x)", "(4x − 2, 1, 0)", "(1, 4 − 4x, 0)"][piece]
+
+
+H = Task("h", _h_cases, lambda c: colormaps.h(c.args[0]), _scalar_judge(_h_hint, "an (r, g, b) tuple"),
+         blocked=COLOR_BLOCK, summary="an (r, g, b) tuple")
+
+
+def _f1_cases(rng, graded):
     xs = [-2.0, 0.0, 0.3, 1.0, 7.5] + list(np.round(rng.uniform(-2, 3, 4 if graded else 2), 3))
-    return _numeric_task("f1", func, [(f"f1({x:g})", (float(x),)) for x in xs], lambda x: min(max(x, 0.0), 1.0),
-                         lambda a, v, e: "values below 0 give 0, above 1 give 1, others stay.",
-                         graded=graded, timeout=timeout, shape_text="one number", blocked=_COLOR_BLOCK)
+    return [CaseSpec(f"f1({x:g})", (float(x),)) for x in xs]
 
 
-def f2(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
-    """Check the linear map ``func(x, kmin, kmax)`` (f2), including kmin = kmax (→ 0.5)."""
-    rng = _rng(seed)
-    samples = [("f2(3, 1, 5)", (3.0, 1.0, 5.0)), ("f2(-2, -2, 6)", (-2.0, -2.0, 6.0)),
-               ("all values equal: f2(0.7, 0.7, 0.7)", (0.7, 0.7, 0.7))]
+F1 = Task("f1", _f1_cases, lambda c: min(max(c.args[0], 0.0), 1.0),
+          _scalar_judge(lambda a, v, e: "values below 0 give 0, above 1 give 1, others stay."),
+          blocked=COLOR_BLOCK, summary="one number")
+
+
+def _f2_cases(rng, graded):
+    cases = [CaseSpec("f2(3, 1, 5)", (3.0, 1.0, 5.0)), CaseSpec("f2(-2, -2, 6)", (-2.0, -2.0, 6.0)),
+             CaseSpec("all values equal: f2(0.7, 0.7, 0.7)", (0.7, 0.7, 0.7))]
     for _ in range(4 if graded else 1):
         lo, hi = sorted(rng.integers(-20, 20, 2) / 4)
         hi = hi + 1
-        samples.append((f"f2(x, {lo:g}, {hi:g})", (float(rng.uniform(lo, hi)), float(lo), float(hi))))
-
-    def expected(x, lo, hi):
-        return 0.5 if hi == lo else (x - lo) / (hi - lo)
-
-    def hint(args, val, exp):
-        x, lo, hi = args
-        if hi == lo:
-            return ("when all curvature values are equal, κmax − κmin = 0 and the quotient is 0/0: "
-                    "return 0.5 (green) in that case.")
-        return "f2(x) = (x − κmin) / (κmax − κmin)."
-
-    rep = _numeric_task("f2", func, samples, expected, hint, graded=graded, timeout=timeout, shape_text="one number",
-                        blocked=_COLOR_BLOCK)
-    if rep.status == "error" and "ZeroDivision" in rep.message:
-        rep.message += ("\nhint: when all curvature values are equal, κmax − κmin = 0; return 0.5 (green) "
-                        "in that case instead of dividing.")
-    return rep
-
-
-def f3(func, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
-    """Check the classification map ``func(x)`` (f3), with rounding noise around 0 counted as 0."""
-    samples = [("f3(-2)", (-2.0,)), ("f3(0)", (0.0,)), ("f3(0.5)", (0.5,)),
-               ("rounding noise: f3(1e-17)", (1e-17,)), ("rounding noise: f3(-3e-16)", (-3e-16,))]
-    if graded:
-        samples += [("f3(-1e-3)", (-1e-3,)), ("f3(1e-4)", (1e-4,))]
-
-    def expected(x):
-        return 0.5 if abs(x) <= 1e-9 else (1.0 if x > 0 else 0.0)
-
-    def hint(args, val, exp):
-        if abs(args[0]) < 1e-12:
-            return ("computed curvature is never exactly 0 (a cylinder gives K ≈ 1e-17): "
-                    "compare |x| with a small tolerance, e.g. 1e-9, instead of x == 0.")
-        return "f3 is 0 for negative, 0.5 for zero, 1 for positive values."
-
-    return _numeric_task("f3", func, samples, expected, hint, graded=graded, timeout=timeout, shape_text="one number",
-                         blocked=_COLOR_BLOCK)
-
-
-def _visualize_cases(graded, rng):
-    """(name, nets, refine, mode, cmap) of the visualize_curvature check."""
-    B = BezierPatches
-    cases = [
-        ("one 3×3 patch, Gaussian curvature, linear map", [_rand_net(rng, 3, 3)], 0, B.CURVATURE_GAUSSIAN, B.COLOR_MAP_LINEAR),
-        ("three 2×3 patches, mean curvature", [_rand_net(rng, 2, 3) for _ in range(3)], 0, B.CURVATURE_AVERAGE, B.COLOR_MAP_LINEAR),
-        ("two 3×2 patches, κ1 (max)", [_rand_net(rng, 3, 2) for _ in range(2)], 0, B.CURVATURE_PRINCIPAL_MAX, B.COLOR_MAP_LINEAR),
-        ("two 2×3 patches refined once, κ2 (min)", [_rand_net(rng, 2, 3) for _ in range(2)], 1, B.CURVATURE_PRINCIPAL_MIN, B.COLOR_MAP_LINEAR),
-        ("two 3×2 patches, Gaussian curvature, cut map", [_rand_net(rng, 3, 2) for _ in range(2)], 0, B.CURVATURE_GAUSSIAN, B.COLOR_MAP_CUT),
-        ("two 2×3 patches, classification map", [_rand_net(rng, 2, 3) for _ in range(2)], 0, B.CURVATURE_GAUSSIAN, B.COLOR_MAP_CLASSIFICATION),
-        ("umbilic corners (paraboloid vertices), κ1", [_rand_net(rng, 2, 3, "umbilic") for _ in range(6)], 0, B.CURVATURE_PRINCIPAL_MAX, B.COLOR_MAP_LINEAR),
-        ("plane z = 0, linear map (all values equal)", [_rand_net(rng, 2, 2, "level")], 0, B.CURVATURE_GAUSSIAN, B.COLOR_MAP_LINEAR),
-        ("tilted flat patch refined once, classification map", [_rand_net(rng, 3, 2, "flat")], 1, B.CURVATURE_GAUSSIAN, B.COLOR_MAP_CLASSIFICATION),
-    ]
-    if graded:
-        cases += [
-            ("three 2×4 patches refined twice, mean curvature", [_rand_net(rng, 2, 4) for _ in range(3)], 2, B.CURVATURE_AVERAGE, B.COLOR_MAP_LINEAR),
-            ("two 4×2 patches, κ2, classification map", [_rand_net(rng, 4, 2) for _ in range(2)], 0, B.CURVATURE_PRINCIPAL_MIN, B.COLOR_MAP_CLASSIFICATION),
-            ("umbilic corner refined once, Gaussian curvature, cut map", [_rand_net(rng, 3, 3, "umbilic")], 1, B.CURVATURE_GAUSSIAN, B.COLOR_MAP_CUT),
-            ("four 3×3 patches, κ1, cut map", [_rand_net(rng, 3, 3) for _ in range(4)], 0, B.CURVATURE_PRINCIPAL_MAX, B.COLOR_MAP_CUT),
-        ]
+        cases.append(CaseSpec(f"f2(x, {lo:g}, {hi:g})", (float(rng.uniform(lo, hi)), float(lo), float(hi))))
     return cases
 
 
-def visualize_curvature(cls, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
-    """Check a :class:`lab.BezierPatches` subclass whose ``visualize_curvature`` the student wrote (practical 5.1).
+def _f2_hint(args, val, exp):
+    x, lo, hi = args
+    if hi == lo:
+        return "when all curvature values are equal, κmax − κmin = 0 and the quotient is 0/0: return 0.5 (green) in that case."
+    return "f2(x) = (x − κmin) / (κmax − κmin)."
 
-    For every case: the class is built from random rational nets (optionally
-    refined), ``visualize_curvature(mode, color_map)`` is called, and the
-    values stored with ``set_curvature`` and the colours stored with
-    ``set_colors`` are compared with sympy-exact curvature and the practical's
-    colour maps.
-    """
-    rng = _rng(seed)
-    if not (inspect.isclass(cls) and issubclass(cls, BezierPatches)):
-        return Report("visualize_curvature", "error", [], f"expected a subclass of lab.BezierPatches; got {cls!r}", graded)
-    if cls.visualize_curvature is BezierPatches.visualize_curvature:
-        return Report("visualize_curvature", "delegated", [],
-                      "your class does not define visualize_curvature: it still uses the library's.", graded)
-    blocked = _visualize_block()
 
-    def cases():
-        for name, nets, depth, mode, cmap in _visualize_cases(graded, rng):
-            nets = np.array(nets)
-            patches = cls(nets.copy())
-            patches.refine(depth)
-            refined = patches.control_points.copy()
-            exact = _exact_corners(refined)
-            values = exact[MODE_FIELD[mode.value]]
-            colours = _expected_colors(values, cmap.value)
-            try:
-                _call("visualize_curvature", cls, patches.visualize_curvature, (mode, cmap), timeout=timeout,
-                      blocked=blocked)
-            except _Stop as stop:
-                if stop.status == "error":
-                    stop.message = f"{stop.message}\n(in the case: {name})" + _error_hint(stop.message, values)
-                raise
-            got_v, got_c = patches.curvature, patches.colors
-            missing = np.isnan(got_v).all(axis=(1, 2))
-            if np.any(missing) and not np.isnan(values).any():
-                k = int(np.argmax(missing))
-                yield Case(name, False, "set_curvature called for every patch",
-                           f"patch {k} (of {len(patches)}) has no curvature values",
-                           "call patch.set_curvature(c00, c01, c10, c11) for every patch of the collection.")
-                continue
-            tol_scale = max(1.0, float(np.max(np.abs(values))))
-            # at umbilics κ1, κ2 = H ± √(H² − K) are only accurate to √eps relative
-            rtol = 1e-7 if mode.value in ("k1", "k2") else 1e-8
-            if not (got_v.shape == values.shape and np.all(np.abs(got_v - values) <= rtol * tol_scale)):
-                yield Case(name, False, f"{mode.value} at the corners: {_fmt(values)}", _fmt(got_v),
-                           _diagnose_values(refined, mode.value, got_v, values))
-                continue
-            if np.isnan(got_c).all(axis=(1, 2, 3)).any():
-                yield Case(name, False, "set_colors called for every patch", "some patches have no colours",
-                           "call patch.set_colors(c00, c01, c10, c11) with (r, g, b) tuples for every patch.")
-                continue
-            if np.all(np.abs(got_c - colours) <= 1e-6):
-                yield Case(name, True)
-                continue
-            yield Case(name, False, f"colours {_fmt(colours, 3)}", _fmt(got_c, 3),
-                       _diagnose_colors(values, got_c, cmap.value, len(patches)))
+def _f2_error_hint(case, message):
+    if "ZeroDivision" in message:
+        return "when all curvature values are equal, κmax − κmin = 0; return 0.5 (green) in that case instead of dividing."
+    return ""
 
-    return _report("visualize_curvature", graded, cases)
+
+F2 = Task("f2", _f2_cases, lambda c: 0.5 if c.args[2] == c.args[1] else (c.args[0] - c.args[1]) / (c.args[2] - c.args[1]),
+          _scalar_judge(_f2_hint), blocked=COLOR_BLOCK, error_hint=_f2_error_hint, summary="one number")
+
+
+def _f3_cases(rng, graded):
+    cases = [CaseSpec(f"f3({x:g})", (x,)) for x in (-2.0, 0.0, 0.5)]
+    cases += [CaseSpec(f"rounding noise: f3({x:g})", (x,)) for x in (1e-17, -3e-16)]
+    # the tolerance belongs to the model (its size): a fixed one in the function fails one of these
+    cases += [CaseSpec("a large model's genuine small value: f3(3e-12, tol=1e-14)", (3e-12, 1e-14)),
+              CaseSpec("a coarse model's rounding noise: f3(-4e-7, tol=1e-6)", (-4e-7, 1e-6))]
+    if graded:
+        cases += [CaseSpec(f"f3({x:g})", (x,)) for x in (-1e-3, 1e-4)]
+    return cases
+
+
+def _f3_expected(case):
+    x = case.args[0]
+    tol = case.args[1] if len(case.args) > 1 else 1e-9
+    return 0.5 if abs(x) <= tol else (1.0 if x > 0 else 0.0)
+
+
+def _f3_hint(args, val, exp):
+    x = args[0]
+    tol = args[1] if len(args) > 1 else 1e-9
+    if abs(x) <= tol:
+        if len(args) > 1:
+            return f"|x| = {abs(x):g} is below the tolerance tol = {tol:g} you were given: use tol, not a fixed number."
+        return ("computed curvature is rounding noise around 0 (a flat region gives K ≈ 1e-17): "
+                "compare |x| with the tolerance tol instead of x == 0.")
+    if len(args) > 1:
+        return f"tol = {tol:g} was given and |x| = {abs(x):g} is larger: use the tolerance you are given, not a fixed one."
+    return "f3 is 0 for negative, 0.5 for zero, 1 for positive values."
+
+
+def _f3_error_hint(case, message):
+    if "TypeError" in message and len(case.args) > 1:
+        return "f3 takes the model's tolerance as its second argument: def f3(x, tol=1e-9)."
+    return ""
+
+
+F3 = Task("f3", _f3_cases, _f3_expected, _scalar_judge(_f3_hint), blocked=COLOR_BLOCK, error_hint=_f3_error_hint,
+          summary="one number")
+
+
+# -- visualize_curvature --------------------------------------------------------------------------------------
+
+
+def _visualize_cases(rng, graded):
+    """Cases of the practical's task: (nets, depth, mode, map); the nets are refined here, not by the student."""
+    big = 2.0**20  # |K| about 1e-18 absolute: below any absolute tolerance a student would write
+    specs = [
+        ("one 3×3 patch, Gaussian curvature, linear map", [rand_net(rng, 3, 3)], 0, "gaussian", "linear"),
+        ("three 2×3 patches, mean curvature", [rand_net(rng, 2, 3) for _ in range(3)], 0, "mean", "linear"),
+        ("two 3×2 patches, κ1 (max)", [rand_net(rng, 3, 2) for _ in range(2)], 0, "k1", "linear"),
+        ("two 2×3 patches refined once, κ2 (min)", [rand_net(rng, 2, 3) for _ in range(2)], 1, "k2", "linear"),
+        ("two 3×2 patches, Gaussian curvature, cut map", [rand_net(rng, 3, 2) for _ in range(2)], 0, "gaussian", "cut"),
+        ("two 2×3 patches, classification map", [rand_net(rng, 2, 3) for _ in range(2)], 0, "gaussian", "classification"),
+        ("umbilic corners (paraboloid vertices), κ1", [rand_net(rng, 2, 3, "umbilic") for _ in range(6)], 0, "k1", "linear"),
+        ("plane z = 0, linear map (all values equal)", [rand_net(rng, 2, 2, "level")], 0, "gaussian", "linear"),
+        ("tilted flat patch refined once, classification map", [rand_net(rng, 3, 2, "flat")], 1, "gaussian", "classification"),
+        ("tilted flat patch, linear map (rounding noise only: one colour)", [rand_net(rng, 2, 3, "flat")], 0, "gaussian", "linear"),
+        ("a tilted flat patch beside a curved one, classification map",
+         [rand_net(rng, 3, 2, "flat"), rand_net(rng, 3, 2)], 0, "gaussian", "classification"),
+        ("a large, gently curved bowl and saddle (|K| ≈ 1e-4 relative to the size), classification map",
+         [rand_net(rng, 3, 2, "bowl", big), rand_net(rng, 3, 2, "saddle", big)], 0, "gaussian", "classification"),
+    ]
+    if graded:
+        specs += [
+            ("three 2×4 patches refined twice, mean curvature", [rand_net(rng, 2, 4) for _ in range(3)], 2, "mean", "linear"),
+            ("two 4×2 patches, κ2, classification map", [rand_net(rng, 4, 2) for _ in range(2)], 0, "k2", "classification"),
+            ("umbilic corner refined once, Gaussian curvature, cut map", [rand_net(rng, 3, 3, "umbilic")], 1, "gaussian", "cut"),
+            ("four 3×3 patches, κ1, cut map", [rand_net(rng, 3, 3) for _ in range(4)], 0, "k1", "cut"),
+            ("a gently curved bowl and saddle of ordinary size, classification map",
+             [rand_net(rng, 2, 3, "bowl"), rand_net(rng, 2, 3, "saddle")], 0, "gaussian", "classification"),
+        ]
+    cases = []
+    for name, nets, depth, mode, cmap in specs:
+        refined = BezierPatches(np.array(nets)).refine(depth).control_points.copy()
+        flat = name.startswith(("tilted flat", "plane z = 0"))
+        cases.append(CaseSpec(name, (refined, mode, cmap), info={"size": model_size(refined)}, guard=flat))
+    return cases
+
+
+def _visualize_expected(case):
+    nets, mode, cmap = case.args
+    values = exact_corners(nets)[MODE_FIELD[mode]]
+    return {"values": values, "colors": expected_colors(values, cmap)}
+
+
+def _visualize_judge(case, value, exp):
+    nets, mode, cmap = case.args
+    values, colours = exp["values"], exp["colors"]
+    got_v, got_c = value["curvature"], value["colors"]
+    if got_v.shape != values.shape or got_c.shape != colours.shape:
+        return (False, f"values {values.shape}, colours {colours.shape}", f"{got_v.shape}, {got_c.shape}",
+                "keep the collection's patches: call set_curvature and set_colors on each patch.")
+    missing = np.isnan(got_v).all(axis=(1, 2))
+    if np.any(missing):
+        k = int(np.argmax(missing))
+        return (False, "set_curvature called for every patch", f"patch {k} (of {len(nets)}) has no curvature values",
+                "call patch.set_curvature(c00, c01, c10, c11) for every patch of the collection.")
+    # at umbilics κ1, κ2 = H ± √(H² − K) are only accurate to √eps relative
+    tol = value_tolerance(values, mode, case.info["size"], 1e-7 if mode in ("k1", "k2") else 1e-8)
+    if not np.all(np.abs(got_v - values) <= tol):
+        return (False, f"{mode} at the corners: {fmt(values)}", fmt(got_v), diagnose_values(nets, mode, got_v, values))
+    if np.isnan(got_c).all(axis=(1, 2, 3)).any():
+        return (False, "set_colors called for every patch", "some patches have no colours",
+                "call patch.set_colors(c00, c01, c10, c11) with (r, g, b) tuples for every patch.")
+    if np.all(np.abs(got_c - colours) <= 1e-6):
+        return True, "", "", ""
+    noise = zero_tolerance(mode, case.info["size"])
+    return False, f"colours {fmt(colours, 3)}", fmt(got_c, 3), diagnose_colors(values, got_c, cmap, noise)
+
+
+def _visualize_error_hint(case, message):
+    return visualize_error_hint(case, message, _visualize_expected(case)["values"])
+
+
+VISUALIZE_CURVATURE = Task(
+    "visualize_curvature", _visualize_cases, _visualize_expected, _visualize_judge, protocol="patches",
+    blocked=VISUALIZE_BLOCK, allowed="lab.colormaps.h, f1, f2, f3, math, numpy", error_hint=_visualize_error_hint,
+    summary="the curvature stored with set_curvature and the colours stored with set_colors for every patch")

@@ -1,0 +1,97 @@
+"""Assignments: which tasks a notebook is graded on and for how many points (the instructor's, never the student's).
+
+An assignment is the instructor's copy of a notebook (an exercise or a solution of ``solutions/`` /
+``exercises/``): its metadata ``lab.tasks`` lists ``{"task", "object", "points"}`` and ``lab.assignment``
+is its id (the file's stem, e.g. ``05_visualize_curvature``).  A submission names its assignment by that
+id (exercises carry it); the grader looks the id up in the instructor's folder (``--assignment``, default:
+the project's ``exercises/``).  What the submission's own metadata says about tasks and points is ignored
+and only reported when it differs.
+"""
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import nbformat
+
+from .tasks import TASKS
+
+__all__ = ["Assignment", "AssignmentError", "load", "for_submission", "DEFAULT_FOLDER"]
+
+DEFAULT_FOLDER = Path(__file__).resolve().parents[2] / "exercises"
+
+
+class AssignmentError(ValueError):
+    """No assignment, or an invalid one."""
+
+
+@dataclass(frozen=True)
+class Assignment:
+    id: str
+    title: str
+    tasks: tuple  # of (task, object, points)
+    path: str
+
+    @property
+    def max_score(self):
+        return sum(p for _, _, p in self.tasks)
+
+
+def _tasks(meta, where):
+    tasks = meta.get("tasks")
+    if not isinstance(tasks, list):
+        raise AssignmentError(f"{where} has no task list (metadata 'lab' -> 'tasks'); is it a curvature-lab notebook?")
+    out, seen = [], set()
+    for t in tasks:
+        if not isinstance(t, dict) or t.get("task") not in TASKS:
+            raise AssignmentError(f"{where}: unknown task {t!r}; expected one of {', '.join(TASKS)}")
+        obj, points = str(t.get("object", t["task"])), float(t.get("points", 1))
+        if (t["task"], obj) in seen or not points >= 0:
+            raise AssignmentError(f"{where}: task {t['task']} on {obj} is listed twice or has invalid points")
+        seen.add((t["task"], obj))
+        out.append((t["task"], obj, points))
+    return tuple(out)
+
+
+def load(path):
+    """The assignment of an instructor's notebook."""
+    path = Path(path)
+    try:
+        nb = nbformat.read(str(path), as_version=4)
+    except Exception as exc:
+        raise AssignmentError(f"cannot read the assignment {path}: {type(exc).__name__}: {exc}") from None
+    meta = nb.metadata.get("lab", {})
+    return Assignment(str(meta.get("assignment", path.stem)), str(meta.get("title", path.stem)),
+                      _tasks(meta, str(path)), str(path))
+
+
+def for_submission(nb, path, assignment=None):
+    """The instructor's assignment for a submission, and notes about mismatches.
+
+    ``assignment``: a notebook (used as is), or a folder of instructor notebooks in which the
+    submission's assignment id (or, without one, its file name) is looked up; default the project's
+    ``exercises/``.
+    """
+    meta = nb.metadata.get("lab", {}) if isinstance(nb.metadata.get("lab"), dict) else {}
+    claimed = meta.get("assignment")
+    notes = []
+    where = Path(assignment) if assignment is not None else DEFAULT_FOLDER
+    if where.is_file():
+        found = load(where)
+        if claimed is not None and str(claimed) != found.id:
+            notes.append(f"the notebook says it is assignment {claimed!r}; graded as {found.id!r} as instructed")
+    else:
+        key = str(claimed) if claimed is not None else Path(path).stem
+        candidate = where / f"{Path(key).name}.ipynb"
+        if not candidate.is_file():
+            raise AssignmentError(
+                f"cannot tell which assignment {path} is (id {key!r} not found in {where}); pass --assignment")
+        found = load(candidate)
+    own = meta.get("tasks")
+    if own is not None:
+        try:
+            mine = _tasks(meta, str(path))
+        except AssignmentError:
+            mine = None
+        if mine != found.tasks:
+            notes.append("the notebook's own task list differs from the assignment's; the assignment's is used")
+    return found, notes

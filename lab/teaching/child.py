@@ -1,0 +1,177 @@
+"""The sandboxed half of grading: run the notebook in a fresh kernel, then the graded calls.
+
+``python -m lab.teaching.child SPEC.json`` runs inside the grader's sandbox (:mod:`lab.teaching.sandbox`),
+started by :mod:`lab.teaching.grading`.  SPEC names the notebook (a fresh copy of the submission), the
+output folder, the time limits and the tasks with their cases' inputs (never their answers).  It executes
+every code cell (nbclient, each under the cell time limit; errors are recorded, not fatal), then for each
+task one harness cell (:mod:`lab.teaching.harness`) that appends the student's results to
+``OUT/task-K.jsonl``; cell errors go to ``OUT/cells.json``.
+
+A cell that outlives its limit is interrupted; if the kernel ignores the interrupt (code that catches
+BaseException and ignores SIGINT), it is killed and a new kernel re-runs the cells that worked before, so
+the rest of the notebook and the tasks still run.  The grader bounds the whole run from outside.
+"""
+
+import json
+import sys
+from pathlib import Path
+
+import nbformat
+from nbclient import NotebookClient
+from nbclient.exceptions import CellTimeoutError, DeadKernelError
+
+from .protocol import MARKER
+
+#: Bytes of output kept per cell (a cell that prints gigabytes must not exhaust the sandbox's memory).
+MAX_OUTPUT = 100_000
+#: Kernel restarts allowed in one run.
+MAX_RESTARTS = 3
+#: Seconds an interrupted kernel has to answer again before it is replaced.
+PROBE_TIMEOUT = 10
+
+
+class _Client(NotebookClient):
+    """nbclient with a bound on the output it keeps."""
+
+    def output(self, outs, msg, display_id, cell_index):
+        size = sum(len(json.dumps(o, default=str)) for o in outs)
+        if size > MAX_OUTPUT:
+            return None
+        return super().output(outs, msg, display_id, cell_index)
+
+
+class _Unresponsive(Exception):
+    """The kernel does not answer after an interrupt: it must be replaced."""
+
+
+class Run:
+    """One graded run of a notebook, across kernel restarts."""
+
+    def __init__(self, spec):
+        self.spec = spec
+        self.out = Path(spec["out"])
+        self.nb = nbformat.read(spec["notebook"], as_version=4)
+        self.code_cells = [i for i, c in enumerate(self.nb.cells) if c.cell_type == "code"]
+        self.cell_errors = []
+        self.worked = []  # cells that ran without error: replayed in a new kernel
+        self.restarts = 0
+
+    def client(self):
+        return _Client(self.nb, timeout=self.spec["cell_timeout"], kernel_name="python3", allow_errors=True,
+                       interrupt_on_timeout=False, shutdown_kernel="immediate", raise_on_iopub_timeout=False,
+                       resources={"metadata": {"path": str(Path(self.spec["notebook"]).parent)}},
+                       extra_arguments=["--IPKernelApp.log_level=ERROR"])
+
+    def _execute(self, client, index, timeout):
+        """Run cell ``index``: "ok", "error" (recorded) or "timeout" (interrupted; raises _Unresponsive if stuck)."""
+        client.timeout = timeout
+        cell = self.nb.cells[index]
+        try:
+            client.execute_cell(cell, index)
+        except DeadKernelError:
+            raise _Unresponsive("died") from None
+        except CellTimeoutError:
+            client.km.interrupt_kernel()
+            probe = nbformat.v4.new_code_cell("pass")
+            self.nb.cells.append(probe)
+            try:
+                client.timeout = PROBE_TIMEOUT
+                client.execute_cell(probe, len(self.nb.cells) - 1)
+            except (CellTimeoutError, DeadKernelError):
+                raise _Unresponsive("stuck") from None
+            finally:
+                self.nb.cells.remove(probe)
+            return "timeout"
+        errors = [o for o in cell.get("outputs", []) if o.get("output_type") == "error"]
+        if errors:
+            e = errors[0]
+            text = f"{e.get('ename')}: {e.get('evalue')}"
+            kind = "withheld" if MARKER in text else ("interrupted" if e.get("ename") == "KeyboardInterrupt" else "error")
+            if kind == "interrupted":
+                return "timeout"
+            self._cell_error(index, text[:500], kind)
+            return "error"
+        return "ok"
+
+    def _cell_error(self, index, text, kind):
+        self.cell_errors.append({"cell": index, "error": text, "kind": kind})
+
+    def _work(self):
+        """The cells, then one harness cell per task: (kind, cell index or task index)."""
+        items = [("cell", i) for i in self.code_cells]
+        for k, task in enumerate(self.spec["tasks"]):
+            source = (f"import lab.teaching.harness as _lab_harness\n_lab_harness.run(globals(), "
+                      f"{self.spec['spec_path']!r}, {k}, {str(self.out / f'task-{k}.jsonl')!r}, "
+                      f"{{start}}, {self.spec['case_timeout']!r})")
+            self.nb.cells.append(nbformat.v4.new_code_cell(source))
+            items.append(("task", len(self.nb.cells) - 1, k))
+        return items
+
+    def _task_progress(self, k):
+        path = self.out / f"task-{k}.jsonl"
+        if not path.exists():
+            return -1
+        done = [json.loads(line).get("index", -1) for line in path.read_text().splitlines() if line.strip().startswith("{")]
+        return max(done, default=-1)
+
+    def _task_timeout(self, k, message, status="timeout"):
+        """Record the case in progress as timed out (or its kernel as dead); the task's remaining cases are not run."""
+        last = self._task_progress(k)
+        with open(self.out / f"task-{k}.jsonl", "a") as fh:
+            fh.write(json.dumps({"index": last + 1, "status": status, "message": message}) + "\n")
+
+    def run(self):
+        items = self._work()
+        case_timeout = self.spec["case_timeout"]
+        while items and self.restarts <= MAX_RESTARTS:
+            stuck = False
+            client = self.client()
+            with client.setup_kernel():
+                for index in list(self.worked):  # a new kernel: replay what worked before
+                    try:
+                        self._execute(client, index, self.spec["cell_timeout"])
+                    except _Unresponsive:
+                        stuck = True
+                        break
+                while items and not stuck:
+                    kind, index, *rest = items.pop(0)
+                    if kind == "cell":
+                        limit = self.spec["cell_timeout"]
+                    else:
+                        limit = len(self.spec["tasks"][rest[0]]["cases"]) * case_timeout + 30
+                        cell = self.nb.cells[index]
+                        cell.source = cell.source.replace("{start}", str(self._task_progress(rest[0]) + 1))
+                    try:
+                        status = self._execute(client, index, limit)
+                    except _Unresponsive as exc:
+                        status, stuck = str(exc), True
+                    if status == "died" and kind == "cell":
+                        self._cell_error(index, "the kernel died (did the code exit or crash?)", "error")
+                    elif status == "died":
+                        self._task_timeout(rest[0], "the kernel died while running this case (did the code exit?)",
+                                           "error")
+                    elif status in ("timeout", "stuck") and kind == "cell":
+                        self._cell_error(index, f"stopped after {limit:g} s (endless loop?)", "timeout")
+                    elif status in ("timeout", "stuck"):
+                        self._task_timeout(rest[0], f"stopped after {case_timeout:g} s, and it did not stop when "
+                                                    "interrupted (endless loop?)")
+                    elif kind == "cell" and status == "ok":
+                        self.worked.append(index)
+            self.restarts += stuck
+        for kind, index, *rest in items:
+            if kind == "cell":
+                self._cell_error(index, "not run: the kernel had to be replaced too often", "not run")
+        (self.out / "cells.json").write_text(json.dumps({"cell_errors": self.cell_errors, "restarts": self.restarts}))
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    spec_path = Path(argv[0])
+    spec = json.loads(spec_path.read_text())
+    spec["spec_path"] = str(spec_path)
+    Run(spec).run()
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,256 @@
+"""The grader's sandbox: a submission runs with Debian's bubblewrap (``bwrap``), resource limits and a time limit.
+
+Inside the sandbox the student's notebook sees:
+
+* the operating system, Python and the virtual environment, read-only;
+* a copy of the ``lab`` package in which the reference implementations of the graded tasks are withheld
+  (their bodies replaced by an error, :func:`prepare_package`) and the teaching modules that hold cases,
+  answers and hints are absent; it is mounted where the real package lives, so no import finds another;
+* a private ``/tmp``, and as its only writable folder a fresh copy of the submission with the inputs;
+* no network (a new network namespace with loopback only: nbclient and the kernel talk over it), its own
+  process namespace (every process ends with the sandbox), no capabilities, nothing else of the course.
+
+Limits apply to every process in it: address space, CPU time, file size, open files; a pids cgroup caps
+the number of processes where the cgroup file system is writable.  Where ``bwrap`` cannot run, the
+submission runs in its own session and process group with the same limits, and
+:attr:`Sandbox.missing` names the protections that are missing.
+"""
+
+import ast
+import compileall
+import contextlib
+import functools
+import os
+import resource
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import uuid
+from pathlib import Path
+
+from .runner import stub_source
+
+__all__ = ["Sandbox", "bwrap_works", "prepare_package"]
+
+LAB_DIR = Path(__file__).resolve().parents[1]
+#: Teaching modules the sandbox keeps: they call the student's code and hold no answers.
+KEEP_TEACHING = ("__init__.py", "protocol.py", "harness.py", "child.py")
+#: Read-only system folders and files (bound when present).
+SYSTEM_PATHS = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/etc/alternatives", "/etc/ld.so.cache",
+                "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/fonts", "/etc/passwd", "/etc/group",
+                "/etc/nsswitch.conf", "/etc/localtime", "/etc/mime.types", "/usr/share/glvnd")
+MEMORY = 2 << 30
+CPU_SECONDS = 900
+FILE_SIZE = 256 << 20
+OPEN_FILES = 1024
+PROCESSES = 256
+
+
+def _strip_module(path, module, names):
+    """Replace the bodies of the functions/methods ``names`` (dotted within ``module``) by the withheld stub."""
+    tree = ast.parse(path.read_text(), str(path))
+    wanted, found = set(names), set()
+
+    def visit(body, prefix):
+        for node in body:
+            if isinstance(node, ast.ClassDef):
+                visit(node.body, f"{prefix}{node.name}.")
+            elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and f"{prefix}{node.name}" in wanted:
+                qual = f"{prefix}{node.name}"
+                doc = [node.body[0]] if ast.get_docstring(node) else []
+                node.body = doc + ast.parse(stub_source(f"{module}.{qual}")).body
+                found.add(qual)
+
+    visit(tree.body, "")
+    if wanted - found:
+        raise ValueError(f"cannot withhold {sorted(wanted - found)}: not found in {path}")
+    path.write_text(ast.unparse(tree) + "\n")
+
+
+def _stub_check(task_names):
+    lines = ['"""Checks are run by the grader, outside the notebook: in a graded run they do nothing."""', "",
+             "TASKS = {}", "", "", "def _skip(name):", "    def check(*args, **kwargs):",
+             "        print(f'check.{name}: checked by the grader')", "", "    return check", ""]
+    lines += [f"{name} = TASKS[{name!r}] = _skip({name!r})" for name in task_names]
+    return "\n".join(lines) + "\n"
+
+
+def prepare_package(blocked, task_names, target):
+    """A copy of the ``lab`` package at ``target/lab`` with ``blocked`` functions withheld; returns its path.
+
+    ``blocked`` holds qualified names (``lab.geometry.curvature.from_derivatives``,
+    ``lab.model.patches.BezierPatches.visualize_curvature``).  Of ``lab/teaching`` only the modules that
+    call the student's code remain (no cases, answers or hints), and ``check`` is a stub whose functions
+    print that the grader checks.
+    """
+    dest = Path(target) / "lab"
+    shutil.copytree(LAB_DIR, dest, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    for f in (dest / "teaching").iterdir():
+        if f.name not in KEEP_TEACHING:
+            shutil.rmtree(f) if f.is_dir() else f.unlink()
+    (dest / "teaching" / "check.py").write_text(_stub_check(task_names))
+    by_module = {}
+    for qual in blocked:
+        parts = qual.split(".")
+        for cut in range(len(parts) - 1, 1, -1):
+            file = dest.joinpath(*parts[1:cut]).with_suffix(".py")
+            if file.is_file():
+                by_module.setdefault((file, ".".join(parts[:cut])), []).append(".".join(parts[cut:]))
+                break
+        else:
+            raise ValueError(f"cannot withhold {qual!r}: no such module in lab")
+    for (file, module), names in by_module.items():
+        _strip_module(file, module, names)
+    compileall.compile_dir(str(dest), quiet=1, workers=1)
+    return dest
+
+
+@functools.lru_cache(maxsize=1)
+def bwrap_works():
+    """Whether ``bwrap`` exists and can create the namespaces the sandbox needs here."""
+    exe = shutil.which("bwrap")
+    if exe is None:
+        return False
+    try:
+        done = subprocess.run([exe, "--unshare-net", "--unshare-pid", "--die-with-parent", "--ro-bind", "/", "/",
+                               "--proc", "/proc", "--dev", "/dev", "true"], capture_output=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return done.returncode == 0
+
+
+def _pids_cgroup():
+    """A fresh pids cgroup (v1 or v2) limited to PROCESSES, or None where the cgroup file system is not writable."""
+    for base in (Path("/sys/fs/cgroup/pids"), Path("/sys/fs/cgroup")):
+        if not (base / "cgroup.procs").is_file() or not os.access(base, os.W_OK):
+            continue
+        path = base / f"lab-grade-{uuid.uuid4().hex[:12]}"
+        try:
+            path.mkdir()
+            (path / "pids.max").write_text(str(PROCESSES))
+            return path
+        except OSError:
+            with contextlib.suppress(OSError):
+                path.rmdir()
+    return None
+
+
+class Sandbox:
+    """Runs a command for one submission with the protections available here; see the module docstring.
+
+    Parameters
+    ----------
+    package : Path
+        The prepared ``lab`` copy (:func:`prepare_package`).
+    workdir : Path
+        The submission's fresh folder (the only writable place); it appears as ``/grade`` inside.
+    memory : int
+        Address-space limit per process, bytes.
+    use_bwrap : bool or None
+        None: use it when it works here.
+    """
+
+    def __init__(self, package, workdir, *, memory=MEMORY, use_bwrap=None):
+        self.package = Path(package)
+        self.workdir = Path(workdir)
+        self.memory = int(memory)
+        self.bwrap = bwrap_works() if use_bwrap is None else bool(use_bwrap)
+        self.missing = [] if self.bwrap else [
+            "filesystem isolation (the course's files are readable)", "network isolation",
+            "process isolation (a process that starts its own session can outlive the grading)"]
+        self.cgroup = None
+
+    @property
+    def inside(self):
+        """Where the submission's folder appears to the code in the sandbox."""
+        return Path("/grade") if self.bwrap else self.workdir
+
+    def _env(self):
+        home = "/tmp/home" if self.bwrap else str(self.workdir / ".home")
+        env = {
+            "PATH": f"{Path(sys.executable).parent}:/usr/local/bin:/usr/bin:/bin",
+            "HOME": home, "LANG": os.environ.get("LANG", "C.UTF-8"), "LAB_GRADING": "1", "LAB_STATIC": "1",
+            "PYVISTA_OFF_SCREEN": "true", "VTK_DEFAULT_OPENGL_WINDOW": "vtkEGLRenderWindow", "MPLBACKEND": "Agg",
+            "MPLCONFIGDIR": f"{home}/mpl", "IPYTHONDIR": f"{home}/ipython", "JUPYTER_RUNTIME_DIR": f"{home}/runtime",
+            "JUPYTER_DATA_DIR": f"{home}/data", "JUPYTER_CONFIG_DIR": f"{home}/config",
+            "PYTHONDONTWRITEBYTECODE": "1", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
+            "MKL_NUM_THREADS": "1", "PYTHONHASHSEED": "0",
+        }
+        if not self.bwrap:
+            env["PYTHONPATH"] = str(self.package.parent)
+        return env
+
+    def command(self, argv):
+        if not self.bwrap:
+            return list(argv)
+        cmd = [shutil.which("bwrap"), "--unshare-net", "--unshare-pid", "--unshare-ipc", "--unshare-uts",
+               "--unshare-cgroup-try", "--die-with-parent", "--new-session", "--cap-drop", "ALL"]
+        for p in SYSTEM_PATHS:
+            cmd += ["--ro-bind-try", p, p]
+        for p in sorted({sys.base_prefix, sys.prefix, str(Path(sys.executable).resolve().parent.parent)}):
+            cmd += ["--ro-bind", p, p]
+        cmd += ["--ro-bind", str(self.package), str(LAB_DIR),
+                "--tmpfs", "/tmp", "--dir", "/tmp/home", "--proc", "/proc", "--dev", "/dev",
+                "--bind", str(self.workdir), "/grade", "--chdir", "/grade", "--clearenv"]
+        for k, v in self._env().items():
+            cmd += ["--setenv", k, v]
+        return cmd + list(argv)
+
+    def _limits(self):
+        """Resource limits of the child (runs after fork, before exec)."""
+        for which, value in ((resource.RLIMIT_AS, self.memory), (resource.RLIMIT_CPU, CPU_SECONDS),
+                             (resource.RLIMIT_FSIZE, FILE_SIZE), (resource.RLIMIT_NOFILE, OPEN_FILES),
+                             (resource.RLIMIT_CORE, 0)):
+            resource.setrlimit(which, (value, value))
+        if os.getuid() != 0:
+            resource.setrlimit(resource.RLIMIT_NPROC, (PROCESSES, PROCESSES))
+        if self.cgroup is not None:
+            (self.cgroup / "cgroup.procs").write_text(str(os.getpid()))
+
+    def run(self, argv, timeout):
+        """Run ``argv`` in the sandbox for at most ``timeout`` seconds; every process it started ends with it.
+
+        Returns ``(returncode, timed_out, stderr_tail)``.
+        """
+        self.cgroup = _pids_cgroup()
+        if self.cgroup is None and os.getuid() == 0:
+            self.missing.append("process count limit (no writable pids cgroup; root ignores RLIMIT_NPROC)")
+        env = None if self.bwrap else {**self._env()}
+        if not self.bwrap:
+            Path(env["HOME"]).mkdir(exist_ok=True)
+        err = tempfile.TemporaryFile()
+        proc = subprocess.Popen(self.command(argv), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err,
+                                env=env, cwd=str(self.workdir), preexec_fn=self._limits, start_new_session=True)
+        timed_out = False
+        try:
+            proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            timed_out = True
+        finally:
+            self._kill(proc)
+        err.seek(0)
+        tail = err.read()[-4000:].decode("utf-8", "replace")
+        err.close()
+        return proc.returncode, timed_out, tail
+
+    def _kill(self, proc):
+        """End the sandbox and everything in it: its process group, then any process left in its cgroup."""
+        with contextlib.suppress(OSError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        with contextlib.suppress(OSError):
+            proc.kill()
+        proc.wait()
+        if self.cgroup is not None:
+            for _ in range(50):
+                pids = [int(p) for p in (self.cgroup / "cgroup.procs").read_text().split()]
+                if not pids:
+                    break
+                for pid in pids:
+                    with contextlib.suppress(OSError):
+                        os.kill(pid, signal.SIGKILL)
+                time.sleep(0.05)
+            with contextlib.suppress(OSError):
+                self.cgroup.rmdir()

@@ -1,0 +1,133 @@
+"""What a task is: its cases, the exact answers, how a result is judged, and what the student may not call.
+
+A :class:`Task` is data plus pure functions, used unchanged by the in-notebook check and by the grader:
+
+* ``make_cases(rng, graded)`` → :class:`CaseSpec` list: the inputs sent to the student's code (numbers,
+  strings, arrays) and trusted notes for judging (never sent);
+* ``expected(case)`` → the exact answer (sympy or rational arithmetic where it matters);
+* ``judge(case, value, expected)`` → ``(passed, expected_text, got_text, hint)`` for a result that came
+  back as numbers (:func:`lab.teaching.protocol.decode`);
+* ``error_hint(case, message)`` → a hint for an exception (e.g. an IndexError on a non-square patch);
+* ``blocked``: the library functions the student's code must not call for this task (qualified names):
+  blocked in the in-notebook check, removed from the package the grader's sandbox sees.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .report import Case
+
+__all__ = ["CaseSpec", "Task", "close", "fmt", "judge_outcome"]
+
+
+@dataclass
+class CaseSpec:
+    """One case: a name, the inputs for the student's code, a weight, and notes for judging (not sent)."""
+
+    name: str
+    args: tuple
+    weight: float = 1.0
+    info: dict = field(default_factory=dict)
+    guard: bool = False  # a case a constant answer can pass by accident: counts only beside a passed ordinary one
+
+
+@dataclass(frozen=True)
+class Task:
+    """A task of the lab (see the module docstring)."""
+
+    name: str
+    make_cases: object
+    expected: object
+    judge: object
+    protocol: str = "function"
+    blocked: tuple = ()
+    allowed: str = ""
+    error_hint: object = None
+    summary: str = ""
+
+
+def close(a, b, rtol=1e-7, scale=None):
+    """Same shape, no NaN, and equal within ``rtol`` relative to ``scale`` (default max(1, max |b|))."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    if a.shape != b.shape or np.any(np.isnan(a)) or np.any(np.isnan(b)):
+        return False
+    if scale is None:
+        scale = max(1.0, float(np.max(np.abs(b)))) if b.size else 1.0
+    return bool(np.all(np.abs(a - b) <= rtol * scale))
+
+
+def fmt(x, digits=6):
+    arr = np.asarray(x, dtype=float)
+    return np.array2string(arr, precision=digits, suppress_small=False, max_line_width=100, threshold=12)
+
+
+_STATUS = {"not implemented": "not implemented", "timeout": "timeout", "delegated": "delegated",
+           "error": "error", "bad output": "failed", "not run": "not run"}
+
+
+def judge_outcome(task, case, outcome, expected_fn):
+    """A :class:`Case` from the outcome of running the student's code on ``case`` (see protocol.outcome).
+
+    ``expected_fn()`` gives the exact answer; it is only called when the code returned numbers.
+    """
+    status = outcome.get("status")
+    message = str(outcome.get("message", ""))[:2000]
+    if status == "ok":
+        try:
+            from .protocol import decode
+
+            value = decode(outcome.get("value"))
+        except (ValueError, TypeError) as exc:
+            return Case(case.name, False, "numbers", "", f"the result could not be read ({exc}).", "failed", case.weight)
+        passed, exp_text, got_text, hint = task.judge(case, value, expected_fn())
+        return Case(case.name, bool(passed), exp_text, got_text, "" if passed else hint,
+                    "passed" if passed else "failed", case.weight)
+    if status not in _STATUS:
+        status, message = "error", f"the check could not run this case ({status!r})"
+    hint = ""
+    if status == "bad output":
+        hint = f"return {task.summary}." if task.summary else "return numbers."
+        return Case(case.name, False, task.summary, message, hint, "failed", case.weight)
+    if status == "error" and task.error_hint is not None:
+        hint = task.error_hint(case, message) or ""
+    if status == "delegated":
+        hint = "write the computation yourself" + (f"; allowed helpers: {task.allowed}." if task.allowed else ".")
+        message = f"called {message}" if message else "called a withheld library function"
+    return Case(case.name, False, "", message, hint, _STATUS[status], case.weight)
+
+
+def build_report(task, specs, cases, *, graded=False, seed=None):
+    """The :class:`~lab.teaching.report.Report` of a task from its judged ``cases`` (same in notebook and grader).
+
+    ``specs`` are the :class:`CaseSpec` of the cases: guard cases count only if an ordinary case passed.
+    """
+    from .report import Report, task_status
+
+    cases = list(cases)
+    if not any(c.passed for c, spec in zip(cases, specs) if not spec.guard):
+        for c, spec in zip(cases, specs):
+            if spec.guard and c.passed:
+                c.status, c.passed, c.got = "failed", False, "(right here, but nothing else is)"
+                c.hint = ("this case is flat, so a constant answer fits it by accident: it counts only "
+                          "when a curved case passes too.")
+    status = task_status(cases)
+    message = ""
+    first = next((c for c in cases if c.status == status), None) if status not in ("passed", "failed") else None
+    if first is not None:
+        if status == "not implemented":
+            message = first.got or f"{task.name} is not implemented yet."
+        elif status == "timeout":
+            message = f"{task.name} was {first.got}"
+        elif status == "delegated":
+            message = (f"Your {task.name} calls the library's own implementation ({first.got.removeprefix('called ')}). "
+                       "Write the computation yourself" + (f"; allowed helpers: {task.allowed}." if task.allowed else "."))
+        elif status == "error":
+            message = first.got + (f"\n(in the case: {first.name})" if len(cases) > 1 else "")
+            if first.hint:
+                message += f"\nhint: {first.hint}"
+        elif status == "not run":
+            message = first.got
+    return Report(task.name, status, cases, message, graded, seed)
+

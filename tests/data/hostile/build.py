@@ -1,0 +1,315 @@
+"""Builds the hostile submissions of this folder from exercise 05 (run it after changing an attack).
+
+Each attack is the exercise with the task cell (``class MyBezierPatches``) replaced by the attacker's code
+and, for some, the notebook's metadata changed.  ``python tests/data/hostile/build.py`` rewrites them.
+Every one must score 0 and change nothing outside its sandbox (tests/test_hostile.py).
+"""
+
+import copy
+from pathlib import Path
+
+import nbformat
+
+HERE = Path(__file__).resolve().parent
+EXERCISE = HERE.parents[2] / "exercises" / "05_visualize_curvature.ipynb"
+MARK = "lab-hostile-marker"  # in the command line of every process an attack starts
+
+ATTACKS = {
+    "replace_check_tasks": '''
+import lab
+from lab import check
+
+
+def passed(*args, **kwargs):
+    from lab.teaching.report import Report
+    return Report("visualize_curvature", "passed", [], "", True)
+
+
+check.TASKS["visualize_curvature"] = passed
+check.visualize_curvature = passed
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+''',
+    "replace_run_tasks": '''
+import lab
+import lab.grading as grading
+
+grading.run_tasks = lambda *a, **k: [{"task": "visualize_curvature", "status": "passed", "score": 1.0, "passed": True}]
+grading.grade_notebook = lambda *a, **k: None
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+''',
+    "fake_sentinel_hook": '''
+import glob, json, os
+import lab
+from IPython import get_ipython
+
+FAKE = json.dumps([{"task": "visualize_curvature", "object": "MyBezierPatches", "points": 10, "score": 1.0,
+                    "passed": True, "status": "passed", "cases": [], "text": "ok"}])
+
+
+def hook(*args, **kwargs):
+    print("@@LAB-GRADING@@" + FAKE)
+    for folder in glob.glob("/grade/out") + glob.glob("out") + glob.glob("../out"):
+        for k in range(3):
+            with open(os.path.join(folder, f"task-{k}.jsonl"), "a") as fh:
+                for i in range(40):
+                    fh.write(json.dumps({"index": i, "status": "ok", "value": {"kind": "patches",
+                        "curvature": {"shape": [1, 2, 2], "data": [0.0] * 4},
+                        "colors": {"shape": [1, 2, 2, 3], "data": [0.0, 1.0, 0.0] * 4}}}) + "\\n")
+
+
+get_ipython().events.register("pre_run_cell", hook)
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        raise NotImplementedError("the hook does the work")
+''',
+    "restore_library_code": '''
+import lab
+from lab.geometry import curvature as C
+from lab.model import patches as P
+
+KEPT = {f: f.__code__ for f in (P.BezierPatches.visualize_curvature, C.from_derivatives, C.fundamental_forms)}
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        for f, code in KEPT.items():
+            f.__code__ = code
+        super().visualize_curvature(curvature_mode, color_map)
+''',
+    "second_copy_importlib": '''
+import glob, importlib.util, os, sys
+import lab
+
+roots = {os.path.dirname(os.path.dirname(lab.__file__))}
+roots |= {os.path.dirname(os.path.dirname(p)) for p in glob.glob("/**/lab/geometry/curvature.py", recursive=True)}
+copies = []
+for k, root in enumerate(sorted(roots)):
+    for name in [m for m in sys.modules if m == "lab" or m.startswith("lab.")]:
+        pass
+    spec = importlib.util.spec_from_file_location(f"labcopy{k}", os.path.join(root, "lab", "__init__.py"),
+                                                  submodule_search_locations=[os.path.join(root, "lab")])
+    copies.append((root, spec))
+print("copies found:", [r for r, _ in copies])
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        import importlib
+        for root, _ in copies:
+            saved = {m: sys.modules.pop(m) for m in list(sys.modules) if m == "lab" or m.startswith("lab.")}
+            sys.path.insert(0, root)
+            try:
+                other = importlib.import_module("lab")
+                other.model.patches.BezierPatches.visualize_curvature(self, curvature_mode, color_map)
+                return
+            except Exception:
+                continue
+            finally:
+                sys.path.remove(root)
+                sys.modules.update(saved)
+        raise RuntimeError("no usable copy of the library")
+''',
+    "exec_solution": '''
+import glob, json, os
+import lab
+
+found = []
+for pattern in ("/**/solutions/05_visualize_curvature.ipynb", "../**/05_visualize_curvature.ipynb",
+                os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(lab.__file__))), "solutions", "*.ipynb")):
+    found += glob.glob(pattern, recursive=True)
+for path in found:
+    nb = json.load(open(path))
+    for cell in nb["cells"]:
+        src = "".join(cell["source"])
+        if "class MyBezierPatches" in src and "BEGIN SOLUTION" in src:
+            exec(src)
+            break
+print("solutions found:", found)
+''',
+    "zero_nets_in_init": '''
+import numpy as np
+import lab
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._P[..., 2] = 0.0          # a flat world: every curvature is 0
+
+    def visualize_curvature(self, curvature_mode, color_map):
+        for patch in self:
+            patch.set_curvature(0.0, 0.0, 0.0, 0.0)
+            patch.set_colors(*[(0.0, 1.0, 0.0)] * 4)
+''',
+    "metadata_rename_task": '''
+import lab
+
+
+def mean(k1, k2):
+    return (k1 + k2) / 2
+''',
+    "metadata_task_twice": '''
+import lab
+
+
+def mean(k1, k2):
+    return (k1 + k2) / 2
+''',
+    "endless_loop_ignores_interrupts": '''
+import signal
+import lab
+
+signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        while True:
+            try:
+                while True:
+                    pass
+            except BaseException:
+                pass
+
+
+while True:  # and the cell itself never ends
+    try:
+        pass
+    except BaseException:
+        pass
+''',
+    "vandal_in_folder": f'''
+import glob, json, os, subprocess, sys
+import lab
+
+for path in glob.glob("/**/*.ipynb", recursive=True) + glob.glob("../**/*.ipynb", recursive=True):
+    try:
+        nb = json.load(open(path))
+        nb.setdefault("metadata", {{}}).setdefault("lab", {{}})["tasks"] = []
+        json.dump(nb, open(path, "w"))
+    except Exception:
+        pass
+for path in glob.glob("/**/canary.txt", recursive=True) + glob.glob("../canary.txt"):
+    try:
+        os.remove(path)
+    except Exception:
+        pass
+later = ("import glob, time; time.sleep(4)\\n"
+         "for p in glob.glob('/**/summary.csv', recursive=True) + glob.glob('../**/summary.csv', recursive=True):\\n"
+         "    open(p, 'w').write('student,notebook,score,max_score\\\\nattacker,a.ipynb,10,10\\\\n')\\n"
+         "time.sleep(60)  # {MARK}")
+subprocess.Popen([sys.executable, "-c", later], start_new_session=True, stdin=subprocess.DEVNULL,
+                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+if os.fork() == 0:  # a double-forked daemon too
+    os.setsid()
+    if os.fork() == 0:
+        os.execv(sys.executable, [sys.executable, "-c", later])
+    os._exit(0)
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+''',
+    "resources": '''
+import socket
+import lab
+
+try:
+    hog = bytearray(3 << 30)          # 3 GiB
+    print("allocated 3 GiB")
+except MemoryError:
+    print("no memory")
+for host in ("pypi.org", "1.1.1.1", "10.0.2.2"):
+    try:
+        socket.create_connection((host, 443), timeout=3).close()
+        print("connected to", host)
+    except OSError as exc:
+        print("no network:", exc)
+for name in ("../left_behind.txt", "left_behind.txt", "/tmp/left_behind.txt"):
+    try:
+        open(name, "w").write("was here")
+    except OSError as exc:
+        print("cannot write", name, exc)
+try:
+    with open("big.bin", "wb") as fh:
+        fh.write(b"x" * (1 << 30))    # 1 GiB file
+except OSError as exc:
+    print("file too large:", exc)
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        block = [bytearray(1 << 30) for _ in range(3)]   # and 3 GiB when called
+''',
+    "exit_kernel": '''
+import os
+import lab
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        os._exit(0)
+''',
+    "flood_output": '''
+import lab
+
+for _ in range(2000):
+    print("x" * 100000)
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        print("y" * 10**7)
+''',
+    "forged_results_file": '''
+import json, os
+import lab
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        # overwrite the results file with the values it would like to have
+        for folder in ("/grade/out", "out"):
+            if os.path.isdir(folder):
+                for name in os.listdir(folder):
+                    with open(os.path.join(folder, name), "w") as fh:
+                        fh.write(json.dumps({"index": 0, "status": "ok", "value": {"kind": "array", "shape": [],
+                                                                                     "data": [1.0]}}) + "\\n")
+        for patch in self:
+            patch.set_curvature(1.0, 1.0, 1.0, 1.0)
+            patch.set_colors(*[(1.0, 0.0, 0.0)] * 4)
+''',
+}
+
+METADATA = {
+    "metadata_rename_task": [{"task": "warmup", "object": "mean", "points": 10}],
+    "metadata_task_twice": [{"task": "warmup", "object": "mean", "points": 10},
+                            {"task": "warmup", "object": "mean", "points": 10}],
+}
+
+
+def build():
+    base = nbformat.read(str(EXERCISE), as_version=4)
+    for name, source in ATTACKS.items():
+        nb = copy.deepcopy(base)
+        cell = next(c for c in nb.cells if c.cell_type == "code" and "class MyBezierPatches" in c.source)
+        cell.source = source.strip() + "\n"
+        if name in METADATA:
+            nb.metadata["lab"]["tasks"] = METADATA[name]
+        nb.metadata["lab"].pop("generated_digest", None)
+        nbformat.write(nb, str(HERE / f"{name}.ipynb"))
+
+
+if __name__ == "__main__":
+    build()
