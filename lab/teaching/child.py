@@ -89,6 +89,8 @@ class Run:
             kind = "withheld" if MARKER in text else ("interrupted" if e.get("ename") == "KeyboardInterrupt" else "error")
             if kind == "interrupted":
                 return "timeout"
+            if kind == "error" and e.get("ename") == "NameError" and any(c["kind"] == "withheld" for c in self.cell_errors):
+                kind = "follows"  # most likely a name a withheld cell did not define
             self._cell_error(index, text[:500], kind)
             return "error"
         return "ok"
@@ -138,7 +140,7 @@ class Run:
                     if kind == "cell":
                         limit = self.spec["cell_timeout"]
                     else:
-                        limit = len(self.spec["tasks"][rest[0]]["cases"]) * case_timeout + 30
+                        limit = len(self.spec["tasks"][rest[0]]["cases"]) * case_timeout + 10
                         cell = self.nb.cells[index]
                         cell.source = cell.source.replace("{start}", str(self._task_progress(rest[0]) + 1))
                     try:

@@ -42,8 +42,10 @@ from .spec import build_report, judge_outcome
 from .tasks import TASKS
 from .tasks_curvature import ANALYTIC_BLOCK
 
-__all__ = ["GradeResult", "Prepared", "grade_notebook", "grade_folder", "main"]
+__all__ = ["GradeResult", "Prepared", "WITHHELD", "grade_notebook", "grade_folder", "main"]
 
+#: Kinds of cell errors that come from the withheld reference implementations, not from the student.
+WITHHELD = ("withheld", "follows")
 #: Largest submission read (bytes).
 MAX_NOTEBOOK = 20 << 20
 #: Largest result file read back from the sandbox (bytes).
@@ -93,13 +95,13 @@ class GradeResult:
         for t in self.tasks:
             lines.append(f"- {t['task']} ({t['object']}): {t['points'] * t['score']:.4g} / {t['points']:g}")
             lines.extend("    " + line for line in t["report"].splitlines())
-        errors = [e for e in self.cell_errors if e.get("kind") != "withheld"]
-        withheld = [e["cell"] for e in self.cell_errors if e.get("kind") == "withheld"]
+        errors = [e for e in self.cell_errors if e.get("kind") not in WITHHELD]
+        withheld = [str(e["cell"]) for e in self.cell_errors if e.get("kind") in WITHHELD]
         for e in errors:
             lines.append(f"  cell {e['cell']}: {e['error']}")
         if withheld:
-            lines.append(f"  cells {', '.join(map(str, withheld))} use the library's reference implementation, which "
-                         "the graded run withholds (no points depend on them)")
+            lines.append(f"  cell{'s' * (len(withheld) > 1)} {', '.join(withheld)}: the library's reference "
+                         "implementation (or a result of it) is withheld in the graded run; no points depend on it")
         lines.extend(f"  note: {n}" for n in self.notes)
         if self.missing_protections:
             lines.append("  sandbox: missing " + "; ".join(self.missing_protections))
@@ -210,7 +212,7 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
         Seconds each cell may run; ``check_timeout`` seconds each call of the student's code;
         ``total_timeout`` seconds the whole submission.
     memory : int
-        Address-space limit per process in the sandbox, bytes.
+        Memory limit (writable data) per process in the sandbox, bytes.
     sandbox : bool, optional
         Use bubblewrap (default: when it works here); without it, limits and a process group only.
     prepared : Prepared, optional
@@ -335,7 +337,7 @@ def main(argv=None):
     parser.add_argument("--timeout", type=float, default=60, help="seconds per cell (default 60)")
     parser.add_argument("--check-timeout", type=float, default=10, help="seconds per call of the student's code (default 10)")
     parser.add_argument("--total-timeout", type=float, default=600, help="seconds per submission (default 600)")
-    parser.add_argument("--memory", type=int, default=MEMORY >> 20, help="MiB of address space per process (default 2048)")
+    parser.add_argument("--memory", type=int, default=MEMORY >> 20, help="MiB of memory (writable data) per process (default 2048)")
     parser.add_argument("--no-sandbox", action="store_true", help="do not use bubblewrap (limits and a process group only)")
     args = parser.parse_args(argv)
     fmt = "json" if args.json else args.format

@@ -10,7 +10,7 @@ Inside the sandbox the student's notebook sees:
 * no network (a new network namespace with loopback only: nbclient and the kernel talk over it), its own
   process namespace (every process ends with the sandbox), no capabilities, nothing else of the course.
 
-Limits apply to every process in it: address space, CPU time, file size, open files; a pids cgroup caps
+Limits apply to every process in it: memory (writable data), CPU time, file size, open files; a pids cgroup caps
 the number of processes where the cgroup file system is writable.  Where ``bwrap`` cannot run, the
 submission runs in its own session and process group with the same limits, and
 :attr:`Sandbox.missing` names the protections that are missing.
@@ -148,7 +148,7 @@ class Sandbox:
     workdir : Path
         The submission's fresh folder (the only writable place); it appears as ``/grade`` inside.
     memory : int
-        Address-space limit per process, bytes.
+        Memory limit (writable data: heap and anonymous mappings) per process, bytes.
     use_bwrap : bool or None
         None: use it when it works here.
     """
@@ -201,7 +201,7 @@ class Sandbox:
 
     def _limits(self):
         """Resource limits of the child (runs after fork, before exec)."""
-        for which, value in ((resource.RLIMIT_AS, self.memory), (resource.RLIMIT_CPU, CPU_SECONDS),
+        for which, value in ((resource.RLIMIT_DATA, self.memory), (resource.RLIMIT_CPU, CPU_SECONDS),
                              (resource.RLIMIT_FSIZE, FILE_SIZE), (resource.RLIMIT_NOFILE, OPEN_FILES),
                              (resource.RLIMIT_CORE, 0)):
             resource.setrlimit(which, (value, value))

@@ -79,9 +79,15 @@ def judge_outcome(task, case, outcome, expected_fn):
             from .protocol import decode
 
             value = decode(outcome.get("value"))
+            if isinstance(value, dict) != (task.protocol == "patches"):
+                raise ValueError(f"a result of the wrong kind for {task.name}")
         except (ValueError, TypeError) as exc:
-            return Case(case.name, False, "numbers", "", f"the result could not be read ({exc}).", "failed", case.weight)
-        passed, exp_text, got_text, hint = task.judge(case, value, expected_fn())
+            return Case(case.name, False, task.summary, "", f"the result could not be read ({exc}).", "failed",
+                        case.weight)
+        try:
+            passed, exp_text, got_text, hint = task.judge(case, value, expected_fn())
+        except (ValueError, TypeError, IndexError, KeyError) as exc:  # malformed numbers: a failure, not a crash
+            passed, exp_text, got_text, hint = False, task.summary, "", f"the result could not be judged ({exc})."
         return Case(case.name, bool(passed), exp_text, got_text, "" if passed else hint,
                     "passed" if passed else "failed", case.weight)
     if status not in _STATUS:

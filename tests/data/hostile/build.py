@@ -1,7 +1,7 @@
 """Builds the hostile submissions of this folder from exercise 05 (run it after changing an attack).
 
 Each attack is the exercise with the task cell (``class MyBezierPatches``) replaced by the attacker's code
-and, for some, the notebook's metadata changed.  ``python tests/data/hostile/build.py`` rewrites them.
+(a list: further cells after it) and, for some, the notebook's metadata changed.  ``python tests/data/hostile/build.py`` rewrites them.
 Every one must score 0 and change nothing outside its sandbox (tests/test_hostile.py).
 """
 
@@ -165,7 +165,7 @@ import lab
 def mean(k1, k2):
     return (k1 + k2) / 2
 ''',
-    "endless_loop_ignores_interrupts": '''
+    "endless_loop_ignores_interrupts": ['''
 import signal
 import lab
 
@@ -180,14 +180,16 @@ class MyBezierPatches(lab.BezierPatches):
                     pass
             except BaseException:
                 pass
+''', '''
+import signal
 
-
-while True:  # and the cell itself never ends
+signal.signal(signal.SIGINT, signal.SIG_IGN)
+while True:  # a cell that never ends either
     try:
         pass
     except BaseException:
         pass
-''',
+'''],
     "vandal_in_folder": f'''
 import glob, json, os, subprocess, sys
 import lab
@@ -304,7 +306,11 @@ def build():
     for name, source in ATTACKS.items():
         nb = copy.deepcopy(base)
         cell = next(c for c in nb.cells if c.cell_type == "code" and "class MyBezierPatches" in c.source)
-        cell.source = source.strip() + "\n"
+        sources = [source] if isinstance(source, str) else source
+        cell.source = sources[0].strip() + "\n"
+        at = nb.cells.index(cell)
+        for k, extra in enumerate(sources[1:], start=1):  # further cells of the attack, after the task cell
+            nb.cells.insert(at + k, nbformat.v4.new_code_cell(extra.strip() + "\n"))
         if name in METADATA:
             nb.metadata["lab"]["tasks"] = METADATA[name]
         nb.metadata["lab"].pop("generated_digest", None)

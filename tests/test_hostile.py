@@ -1,0 +1,150 @@
+"""Hostile submissions (tests/data/hostile/, built by build.py there): each scores 0 and changes nothing outside.
+
+One folder run grades them all, beside a classmate with the reference solution, a canary file and a
+correct alternative implementation.  Afterwards every file outside the reports folder is byte-identical,
+no file has appeared, no process an attack started is alive, and summary.csv is unchanged a while later.
+"""
+
+import csv
+import os
+import shutil
+import time
+from pathlib import Path
+
+import nbformat
+import pytest
+
+from lab import grading
+from lab.teaching import sandbox
+
+ROOT = Path(__file__).resolve().parent.parent
+HOSTILE = sorted((ROOT / "tests" / "data" / "hostile").glob("*.ipynb"))
+ASSIGNMENT = ROOT / "exercises" / "05_visualize_curvature.ipynb"
+MARK = "lab-hostile-marker"
+
+ALTERNATIVE = '''
+import numpy as np
+import lab
+from lab.colormaps import h
+
+
+class MyBezierPatches(lab.BezierPatches):
+    """Vectorised over all corners, curvature from the Weingarten map, a tolerance scaled to the model."""
+
+    def visualize_curvature(self, curvature_mode, color_map):
+        P = self.control_points
+        m, n = P.shape[1] - 1, P.shape[2] - 1
+        d = {"u": m * np.diff(P, axis=1), "v": n * np.diff(P, axis=2), "uu": m * (m - 1) * np.diff(P, 2, axis=1),
+             "uv": m * n * np.diff(np.diff(P, axis=1), axis=2), "vv": n * (n - 1) * np.diff(P, 2, axis=2)}
+        c = {k: v[:, [0, -1]][:, :, [0, -1]] for k, v in d.items()}
+        N = np.cross(c["u"], c["v"])
+        N /= np.linalg.norm(N, axis=-1, keepdims=True)
+        I = np.stack([np.stack([np.sum(c[a] * c[b], -1) for b in "uv"], -1) for a in "uv"], -2)
+        II = np.stack([np.stack([np.sum(N * c[("uv" if a != b else a + b)], -1) for b in "uv"], -1) for a in "uv"], -2)
+        S = np.linalg.solve(I, II)
+        K, H = np.linalg.det(S), 0.5 * (S[..., 0, 0] + S[..., 1, 1])
+        root = np.sqrt(np.clip(((S[..., 0, 0] - S[..., 1, 1]) / 2) ** 2 + S[..., 0, 1] * S[..., 1, 0], 0, None))
+        value = {"gaussian": K, "mean": H, "k1": H + root, "k2": H - root}[str(curvature_mode.value)]
+        size = np.ptp(P.reshape(-1, 3), axis=0).max()
+        zero = 1e-10 / size ** (2 if curvature_mode == self.CURVATURE_GAUSSIAN else 1)
+        lo, hi = value.min(), value.max()
+        if color_map == self.COLOR_MAP_LINEAR:
+            t = np.full_like(value, 0.5) if hi - lo <= zero else (value - lo) / (hi - lo)
+        elif color_map == self.COLOR_MAP_CUT:
+            t = np.clip(value, 0, 1)
+        else:
+            t = np.where(np.abs(value) <= zero, 0.5, (value > 0) * 1.0)
+        for k, patch in enumerate(self):
+            patch.set_curvature(*value[k].ravel())
+            patch.set_colors(*(tuple(h(x)) for x in t[k].ravel()))
+'''
+
+
+def snapshot(root, skip):
+    return {p.relative_to(root): p.read_bytes() for p in sorted(root.rglob("*"))
+            if p.is_file() and skip not in p.parents}
+
+
+def marked_processes():
+    found = []
+    for pid in os.listdir("/proc"):
+        if pid.isdigit():
+            try:
+                cmd = Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            except OSError:
+                continue
+            if MARK in cmd and "pytest" not in cmd:
+                found.append((pid, cmd[:120]))
+    return found
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory):
+    course = tmp_path_factory.mktemp("course")
+    subs = course / "submissions"
+    for path in HOSTILE:
+        (subs / path.stem).mkdir(parents=True)
+        shutil.copy(path, subs / path.stem / "05_visualize_curvature.ipynb")
+    (subs / "ada").mkdir()
+    shutil.copy(ROOT / "solutions" / "05_visualize_curvature.ipynb", subs / "ada" / "05_visualize_curvature.ipynb")
+    nb = nbformat.read(ASSIGNMENT, as_version=4)
+    next(c for c in nb.cells if "class MyBezierPatches" in c.source).source = ALTERNATIVE.strip()
+    (subs / "eve").mkdir()
+    nbformat.write(nb, subs / "eve" / "05_visualize_curvature.ipynb")
+    (subs / "canary.txt").write_text("canary\n")
+    (course / "canary.txt").write_text("canary\n")
+    out = course / "reports"
+    before = snapshot(course, out)
+    results = grading.grade_folder(subs, out, jobs=2, seed=20261201, assignment=ASSIGNMENT, timeout=8,
+                                   check_timeout=2, total_timeout=240)
+    summary = (out / "summary.csv").read_text()
+    time.sleep(8)  # the detached processes of an attack would strike after 4 s
+    return {"results": {Path(r.notebook).parts[0]: r for r in results}, "before": before, "course": course,
+            "out": out, "summary": summary}
+
+
+@pytest.mark.parametrize("name", [p.stem for p in HOSTILE])
+def test_each_attack_scores_zero(graded, name):
+    result = graded["results"][name]
+    assert result.max_score == 10, result.text()
+    assert result.score == 0, result.text()
+    assert not result.error or "cannot" not in result.error
+
+
+def test_the_classmates_get_their_marks(graded):
+    for student in ("ada", "eve"):  # the reference solution, and a correct one written differently
+        result = graded["results"][student]
+        assert result.score == 10, result.text()
+
+
+def test_nothing_outside_the_sandbox_changed(graded):
+    after = snapshot(graded["course"], graded["out"])
+    assert set(after) == set(graded["before"]), "files appeared or vanished"
+    changed = [str(p) for p in after if after[p] != graded["before"][p]]
+    assert changed == []
+
+
+def test_no_process_of_an_attack_survives(graded):
+    assert marked_processes() == []
+
+
+def test_summary_is_unchanged_a_while_after_the_run(graded):
+    text = (graded["out"] / "summary.csv").read_text()
+    assert text == graded["summary"]
+    rows = {r["student"]: r for r in csv.DictReader(text.splitlines())}
+    assert float(rows["ada"]["score"]) == 10 and "attacker" not in rows
+
+
+def test_the_timed_out_submission_reports_it(graded):
+    result = graded["results"]["endless_loop_ignores_interrupts"]
+    assert any(e["kind"] == "timeout" for e in result.cell_errors)
+    task = result.tasks[0]
+    assert task["status"] == "timeout" and "did not stop when interrupted" in task["report"]
+
+
+@pytest.mark.skipif(not sandbox.bwrap_works(), reason="bubblewrap cannot run here")
+def test_the_library_copy_in_the_sandbox_withholds_the_answers(graded):
+    results = graded["results"]
+    for name in ("restore_library_code", "second_copy_importlib"):
+        assert results[name].tasks[0]["status"] in ("delegated", "not implemented", "error"), results[name].text()
+    assert results["restore_library_code"].tasks[0]["status"] == "delegated"
