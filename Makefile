@@ -5,7 +5,7 @@ PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 STAMP  := $(VENV)/.installed
 APT_PACKAGES := libegl1 libgl1-mesa-dri
-TEST_APT_PACKAGES := chromium
+TEST_APT_PACKAGES := chromium bubblewrap
 PORT ?= 8888
 
 .PHONY: lab test setup system-deps venv clean benchmarks exercises

@@ -19,6 +19,7 @@ submission runs in its own session and process group with the same limits, and
 import ast
 import compileall
 import contextlib
+import ctypes
 import functools
 import os
 import resource
@@ -200,7 +201,9 @@ class Sandbox:
         return cmd + list(argv)
 
     def _limits(self):
-        """Resource limits of the child (runs after fork, before exec)."""
+        """Resource limits of the child (runs after fork, before exec); it dies with the grader."""
+        with contextlib.suppress(OSError, AttributeError):
+            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
         for which, value in ((resource.RLIMIT_DATA, self.memory), (resource.RLIMIT_CPU, CPU_SECONDS),
                              (resource.RLIMIT_FSIZE, FILE_SIZE), (resource.RLIMIT_NOFILE, OPEN_FILES),
                              (resource.RLIMIT_CORE, 0)):
