@@ -1,0 +1,161 @@
+"""The classroom: JupyterHub serves the lab to two students; explorers go through the hub's proxy only.
+
+A real JupyterHub (pip ``jupyterhub``; ``configurable-http-proxy`` from npm, installed by ``make test``)
+on 127.0.0.1 with the dummy authenticator and the simple local process spawner.  Headless Chromium logs
+two students in through the hub's URL, opens notebook 05 in each, runs it, and checks that each
+student's explorer view is live (served under ``/user/NAME/proxy/PORT/`` by jupyter-server-proxy),
+changes with its control, and that the two students' views and kernels are independent.  Every request
+the browser makes goes to the hub's port.
+"""
+
+import contextlib
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+from urllib.parse import urlsplit
+
+import pytest
+
+from .browser_support import CHROMIUM, CHROMIUM_ARGS, PANEL, Notebook, coverage, free_port
+
+ROOT = Path(__file__).resolve().parent.parent
+PROXY = ROOT / ".venv" / "node" / "node_modules" / ".bin" / "configurable-http-proxy"
+NOTEBOOK = "05_visualize_curvature.ipynb"
+STUDENTS = ("ada", "bob")
+
+pytestmark = [
+    pytest.mark.skipif(os.environ.get("LAB_SKIP_BROWSER") == "1", reason="LAB_SKIP_BROWSER=1"),
+    pytest.mark.skipif(not PROXY.exists(), reason="configurable-http-proxy is not installed (make test installs it)"),
+]
+
+CONFIG = """
+import os, sys
+c = get_config()
+c.JupyterHub.ip = "127.0.0.1"
+c.JupyterHub.port = {port}
+c.JupyterHub.hub_ip = "127.0.0.1"
+c.JupyterHub.hub_port = {hub_port}
+c.ConfigurableHTTPProxy.api_url = "http://127.0.0.1:{api_port}"
+c.ConfigurableHTTPProxy.command = [{proxy!r}]
+c.JupyterHub.authenticator_class = "dummy"
+c.DummyAuthenticator.password = "lab"
+c.Authenticator.allow_all = True
+c.JupyterHub.spawner_class = "simple"
+c.SimpleLocalProcessSpawner.home_dir_template = {home!r} + "/{{username}}"
+c.Spawner.cmd = [os.path.join(os.path.dirname(sys.executable), "jupyterhub-singleuser")]
+c.Spawner.args = ["--allow-root", "--LabApp.expose_app_in_browser=True", "--LabApp.user_settings_dir=" + {settings!r}]
+c.Spawner.default_url = "/lab"
+c.Spawner.env_keep = ["PATH", "LANG", "VTK_DEFAULT_OPENGL_WINDOW", "PYTHONPATH"]
+c.Spawner.start_timeout = 180
+c.Spawner.http_timeout = 180
+c.JupyterHub.db_url = "sqlite:///" + {db!r}
+c.JupyterHub.cookie_secret_file = {secret!r}
+c.ConfigurableHTTPProxy.pid_file = {pid!r}
+"""
+
+
+@contextlib.contextmanager
+def jupyterhub(root):
+    port, hub_port, api_port = free_port(), free_port(), free_port()
+    home, settings = root / "home", root / "settings" / "@jupyterlab" / "notebook-extension"
+    settings.mkdir(parents=True)
+    (settings / "tracker.jupyterlab-settings").write_text('{"windowingMode": "none"}')
+    for user in STUDENTS:
+        (home / user).mkdir(parents=True)
+        shutil.copy(ROOT / "solutions" / NOTEBOOK, home / user / NOTEBOOK)
+    config = root / "jupyterhub_config.py"
+    config.write_text(CONFIG.format(port=port, hub_port=hub_port, api_port=api_port, proxy=str(PROXY), home=str(home),
+                                    settings=str(root / "settings"), db=str(root / "hub.sqlite"),
+                                    secret=str(root / "cookie_secret"), pid=str(root / "proxy.pid")))
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTEST_XDIST_WORKER", "JUPYTERHUB_SERVICE_PREFIX")}
+    env["PATH"] = f"{Path(sys.executable).parent}:{env.get('PATH', '')}"
+    log = open(root / "hub.log", "w")
+    proc = subprocess.Popen([str(Path(sys.executable).parent / "jupyterhub"), "-f", str(config)], cwd=root, env=env,
+                            stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            with contextlib.suppress(OSError):
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            if proc.poll() is not None:
+                raise RuntimeError(f"jupyterhub exited; see {log.name}")
+            time.sleep(0.5)
+        yield f"http://127.0.0.1:{port}"
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, 9)  # the proxy and the single-user servers
+        log.close()
+
+
+def login(context, hub, user):
+    page = context.new_page()
+    page.goto(f"{hub}/hub/login")
+    page.fill("input[name=username]", user)
+    page.fill("input[name=password]", "lab")
+    page.click("input[type=submit], button[type=submit]")
+    page.wait_for_url(f"**/user/{user}/**", timeout=240_000)
+    return page
+
+
+@pytest.fixture(scope="module")
+def hub(tmp_path_factory):
+    root = tmp_path_factory.mktemp("hub")
+    with jupyterhub(root) as url:
+        yield url, root
+
+
+def test_two_students_through_the_hub(hub, tmp_path):
+    from playwright.sync_api import sync_playwright
+
+    url, root = hub
+    origin = urlsplit(url).netloc
+    foreign = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        views = {}
+        for user in STUDENTS:
+            context = browser.new_context(viewport={"width": 1500, "height": 1100})
+            context.on("request", lambda r: foreign.append(r.url) if urlsplit(r.url).netloc not in (origin, "")
+                       and not r.url.startswith(("data:", "blob:", "about:")) else None)
+            page = login(context, url, user)
+            nb = Notebook(page, f"{url}/user/{user}", "", NOTEBOOK, tmp_path / user)
+            nb.run_all(timeout=400)
+            explorer = nb.explorers().first
+            frame = explorer.locator("iframe.pyvista")
+            src = frame.get_attribute("src")
+            assert src and f"/user/{user}/proxy/" in src, src
+            assert urlsplit(src).netloc in ("", origin), src  # the view is served through the hub
+            before = nb.wait_for_picture(explorer)
+            assert coverage(before) > 0.03, f"{user}: blank view; see {nb.shot('blank')}"
+            views[user] = (nb, explorer, before, src)
+        # a control change in ada's explorer changes ada's view, not bob's
+        nb_a, ex_a, before_a, src_a = views["ada"]
+        nb_b, ex_b, before_b, src_b = views["bob"]
+        assert src_a != src_b
+        select = ex_a.locator(".lab-primary-control select")
+        options = select.locator("option").all_inner_texts()
+        current = select.evaluate("s => s.options[s.selectedIndex].text")
+        select.select_option(label=next(o for o in options if o != current))
+        after_a, changed = nb_a.wait_for_change(ex_a, before_a)
+        assert changed, f"ada's view did not change; see {nb_a.shot('ada-unchanged')}"
+        after_b = nb_b.view_image(ex_b)
+        assert after_b.shape == before_b.shape and abs(after_b - before_b).mean() < 1.0, "bob's view changed too"
+        # separate kernels: a variable set in ada's kernel does not exist in bob's
+        nb_a.run_cell("secret = 'ada-only'; print('set', secret)", "set ada-only")
+        out = nb_b.run_cell("print('bob sees', globals().get('secret'))", "bob sees")
+        assert "bob sees None" in out
+        pid_a = nb_a.run_cell("import os; print('pid', os.getpid(), os.environ.get('JUPYTERHUB_USER'))", "pid")
+        pid_b = nb_b.run_cell("import os; print('pid', os.getpid(), os.environ.get('JUPYTERHUB_USER'))", "pid")
+        assert pid_a.split()[1] != pid_b.split()[1] and pid_a.split()[2] == "ada" and pid_b.split()[2] == "bob"
+        browser.close()
+    assert foreign == [], f"the browser addressed other origins than the hub's: {foreign[:5]}"
