@@ -36,7 +36,7 @@ $(STAMP): pyproject.toml jupyter/overrides.json | $(PY)
 $(TEST_STAMP): $(STAMP)
 	$(PIP) install -q -e ".[test]"
 	@command -v npm >/dev/null && (mkdir -p $(VENV)/node && cd $(VENV)/node && \
-	  npm install --silent --no-fund --no-audit configurable-http-proxy@4) || echo "npm missing: the JupyterHub test will be skipped"
+	  npm install --silent --no-fund --no-audit configurable-http-proxy@5) || echo "npm missing: the JupyterHub test will be skipped"
 	@touch $(TEST_STAMP)
 
 setup: system-deps $(STAMP)
