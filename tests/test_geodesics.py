@@ -281,7 +281,9 @@ def test_arc_length_parametrisation(fan_function):
     for p in fan:
         np.testing.assert_allclose(np.linalg.norm(tangent_3d(s, p), axis=1), 1, atol=1e-8)
         chords = np.linalg.norm(np.diff(p.points, axis=0), axis=1)
-        assert np.all(chords <= np.diff(p.s) * (1 + 1e-9))
+        # a chord is never longer than its arc; the sampled points carry the integrator's error
+        # (rtol 1e-10 on coordinates of size ~10: ~1e-9), measured excess up to 9e-11 here
+        assert np.all(chords <= np.diff(p.s) + 1e-9)
 
 
 def test_normal_sections_lie_in_their_plane_on_a_freeform_surface():
@@ -324,7 +326,7 @@ def test_geodesic_across_patches_matches_a_plain_solve_ivp_reference():
         return min(y[0] - u0, u1 - y[0], y[1] - v0, v1 - y[1])
 
     leave.terminal, leave.direction = True, -1
-    for alpha in (0.3, 4.0):  # the second leaves the domain
+    for alpha in (1.5, 4.0):  # the first stays inside (crossing 7 knot spans), the second leaves the domain
         _, duv = start_direction(s, uv, alpha)
         ref = solve_ivp(rhs, (0, 4.5), np.r_[uv, duv], method="DOP853", rtol=1e-12, atol=1e-13, events=leave)
         p = geodesic(s, uv, alpha, 4.5)
