@@ -147,8 +147,7 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_s
             else:
                 data[k] = _average(labels, n, v)
         first = {k: v[_first_of(labels, n)] for k, v in first.items()}
-    faces = np.hstack([np.full((len(quads), 1), 4), quads]).ravel()
-    mesh = pv.PolyData(flat_points, faces)
+    mesh = pv.PolyData(flat_points, _faces_without_collapsed_edges(quads))
     for k, v in {**data, **first}.items():
         mesh.point_data[k] = v
     if "N" in mesh.point_data:
@@ -162,6 +161,33 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_s
             N[missing] = fill / np.linalg.norm(fill, axis=1, keepdims=True)  # VTK's normals are float32
         mesh.point_data["N"] = N
     return mesh
+
+
+def _faces_without_collapsed_edges(quads):
+    """VTK face array of welded quads: a quad with a collapsed edge becomes a triangle, a collapsed quad is dropped.
+
+    Where an edge of the parameter square collapses to one point (the centre
+    of a surface of revolution, a sphere's pole) welding leaves quads such as
+    ``(c, c, a, b)``.  Passed on as quads they break VTK's edge traversal:
+    ``compute_normals`` (which PyVista runs for smooth shading) then "repairs"
+    the orientation of all cells but a strip, and the vertex normals along the
+    strip's borders average to about zero: dark streaks from the centre
+    outwards (Dill's sine wave of revolution).
+    """
+    quads = np.asarray(quads)
+    nxt = np.roll(quads, -1, axis=1)
+    keep = quads != nxt  # drop a vertex equal to its cyclic successor
+    counts = keep.sum(axis=1)
+    faces = []
+    whole = counts == 4
+    faces.append(np.hstack([np.full((whole.sum(), 1), 4), quads[whole]]).ravel())
+    tri = counts == 3
+    if np.any(tri):
+        t = quads[tri][keep[tri]].reshape(-1, 3)
+        distinct = (t[:, 0] != t[:, 1]) & (t[:, 1] != t[:, 2]) & (t[:, 0] != t[:, 2])
+        t = t[distinct]
+        faces.append(np.hstack([np.full((len(t), 1), 3), t]).ravel())
+    return np.concatenate(faces)
 
 
 def _first_of(labels, n=None):
