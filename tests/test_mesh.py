@@ -211,3 +211,65 @@ def test_sine_wave_is_shaded_without_a_streak():
     # measured: mirrored pixels differ by at most 1 grey level; with the streak 5.1 % of the disc
     # differed by more than 40 (a light position or driver change moves pixels by a few levels only)
     assert np.mean(diff > 40) < 0.002, f"{np.mean(diff > 40):.2%} of the disc differs from its mirror image"
+
+
+def test_color_cells_colours_each_polygon_by_the_mean_of_its_vertices():
+    """Dill's polygons (seeds/000, "Image generation"): values averaged over the vertices, then the colour table."""
+    t = surfaces.torus(2.0, 1.0)
+    m = M.surface_mesh(t, 67, 67)  # 66 cells around the tube: the rims u = 1/4, 3/4 run through cell centres
+    flat = M.color_cells(m, "gaussian", "dill")
+    faces = M.build._faces(m)
+    expected = np.array([m.point_data["K"][f].mean() for f in faces])
+    np.testing.assert_allclose(flat.cell_data["values"], expected, rtol=1e-12, atol=1e-15)
+    np.testing.assert_array_equal(flat.cell_data["RGB"], np.round(255 * lab.colormaps.dill(expected)))
+    assert "RGB" not in flat.point_data and "RGB" not in m.cell_data  # a copy
+    # named cells: outside red (K = 1/3), inside blue (K = -1), on the rims yellow (K ~ 0)
+    centre = np.array([m.points[f].mean(axis=0) for f in faces])
+    rho = np.hypot(centre[:, 0], centre[:, 1])
+    names = lab.colormaps.dill_names(expected)
+    on_rim = np.abs(rho - 2.0) < 0.05
+    assert on_rim.sum() == 2 * 66 and set(names[on_rim]) == {"yellow"}
+    assert set(names[rho > 2.5]) == {"red"} and set(names[rho < 1.5]) == {"blue"}
+    # without a map: the mean of the vertices' colours
+    m.point_data["RGB"] = np.tile(np.array([[255, 0, 0], [0, 0, 255]], np.uint8), (m.n_points // 2 + 1, 1))[: m.n_points]
+    plain = M.color_cells(m)
+    np.testing.assert_allclose(plain.cell_data["RGB"], [np.round(m.point_data["RGB"][f].mean(axis=0)) for f in faces], atol=0.5)
+    with pytest.raises(ValueError, match="needs a curvature mode and a colour map, or a mesh with RGB point colours"):
+        M.color_cells(M.surface_mesh(t, 5, 5))
+
+
+def _hue_outliers(image, colours):
+    """Fraction of surface pixels (away from its silhouette) whose colour is no shade of one of ``colours``."""
+    from scipy.ndimage import binary_erosion
+
+    img = np.asarray(image, dtype=float)[..., :3]
+    surface = binary_erosion(np.any(np.abs(img - 255) > 8, axis=-1), iterations=2)  # not the background
+    img = img[surface & (img.max(axis=-1) > 40)]
+    unit = img / np.linalg.norm(img, axis=1, keepdims=True)
+    c = np.asarray(colours, float) / np.linalg.norm(colours, axis=1, keepdims=True)
+    return np.mean((unit @ c.T).max(axis=1) < 0.995)
+
+
+def _distinct_colours(image):
+    img = np.asarray(image)[..., :3]
+    return len(np.unique(img[np.any(img < 247, axis=-1)].reshape(-1, 3), axis=0))
+
+
+def test_flat_shading_draws_each_polygon_in_one_of_dills_colours():
+    import io
+
+    from PIL import Image
+
+    t = surfaces.torus(2.0, 1.0)
+    kwargs = dict(curvature="gaussian", color_map="dill", n=19, window_size=(640, 480))  # 18 x 18 big polygons
+    flat = np.asarray(Image.open(io.BytesIO(render.show(t, shading="flat", **kwargs).data)))
+    smooth = np.asarray(Image.open(io.BytesIO(render.show(t, **kwargs).data)))
+    # a light at the eye with ambient + Lambert only scales a polygon's one colour: every pixel is a shade
+    # of one of the five colours, except anti-aliased polygon borders (measured 1.2 % of the pixels);
+    # smooth shading blends neighbouring colours (measured 11.7 %)
+    assert _hue_outliers(flat, lab.colormaps.DILL_COLORS) < 0.03
+    assert _hue_outliers(smooth, lab.colormaps.DILL_COLORS) > 0.06
+    # and one shade per polygon: few distinct colours (measured 339 flat, 1870 smooth)
+    assert _distinct_colours(flat) < _distinct_colours(smooth) / 3
+    with pytest.raises(ValueError, match="shading must be 'smooth' or 'flat'; got 'phong'"):
+        render.show(t, shading="phong")

@@ -24,6 +24,7 @@ __all__ = [
     "patches_mesh",
     "surface_mesh",
     "color_curvature",
+    "color_cells",
     "WELD_RTOL",
 ]
 
@@ -281,6 +282,44 @@ def color_curvature(mesh, curvature_mode, color_map, **map_options):
     return mesh
 
 
+
+def color_cells(mesh, curvature_mode=None, color_map=None, **map_options):
+    """Dill's polygon colours: one colour per cell, from the mean of its vertices' values (returns a copy).
+
+    Dill (``seeds/000``, "Image generation"): "A set of values … is assigned to
+    each polygon by averaging the values at the vertices", and the polygon is
+    coloured by that value.  With ``curvature_mode`` and ``color_map`` the mean
+    of the cell's vertex curvature is coloured by the map (with
+    ``map_options``); without them (patches coloured by their own
+    ``visualize_curvature``) a cell gets the mean of its vertices' ``RGB``.
+    The result has cell data ``values`` (if coloured by a map) and ``RGB``
+    (uint8) and no point colours.
+    """
+    offsets = np.asarray(mesh.face_offsets)
+    conn = np.asarray(mesh.face_connectivity)
+    counts = np.diff(offsets)
+
+    def mean(values):
+        values = np.asarray(values, dtype=float)
+        return np.add.reduceat(values[conn], offsets[:-1], axis=0) / counts.reshape((-1,) + (1,) * (values.ndim - 1))
+
+    out = mesh.copy()
+    if curvature_mode is not None and color_map is not None:
+        curv = Curvature(*(np.asarray(mesh.point_data[k]) for k in ("K", "H", "k1", "k2", "degenerate")))
+        values = mean(curvature_values(curv, curvature_mode))
+        size = float(np.linalg.norm(np.ptp(mesh.points, axis=0)))
+        name = color_map.value if hasattr(color_map, "value") else color_map
+        rgb = colors_for(values, name, tol=zero_tolerance(CurvatureMode(curvature_mode), size), **map_options)
+        out.cell_data["values"] = values
+    elif "RGB" in mesh.point_data:
+        rgb = mean(mesh.point_data["RGB"]) / 255.0
+    else:
+        raise ValueError("color_cells needs a curvature mode and a colour map, or a mesh with RGB point colours")
+    for name in ("RGB", "values"):
+        if name in out.point_data:
+            del out.point_data[name]
+    out.cell_data["RGB"] = np.round(255 * np.clip(rgb, 0, 1)).astype(np.uint8)
+    return out
 
 
 def _faces(mesh):

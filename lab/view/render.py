@@ -85,7 +85,7 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
 
 
 def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=False, net=False, title=None,
-         resolution=1, n=64, direction=VIEW_DIRECTION, map_options=None):
+         resolution=1, n=64, direction=VIEW_DIRECTION, map_options=None, shading="smooth"):
     """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
 
     Parameters
@@ -101,14 +101,33 @@ def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=F
         Draw the control nets of patches.
     map_options : dict, optional
         Options of the colour map, e.g. ``{"vmin": -1, "vmax": 0.5}`` for Dill's bands.
+    shading : {"smooth", "flat"}
+        ``"flat"`` draws as Dill did (``seeds/000``, "Image generation"): every
+        polygon in one colour, that of the mean of its vertices' values, and one
+        uniform shade from a single light at the eye (ambient plus Lambert), so
+        band edges follow the polygons as in his figures.
     """
     from IPython.display import Image
 
+    if shading not in ("smooth", "flat"):
+        raise ValueError(f"shading must be 'smooth' or 'flat'; got {shading!r}")
+    from .. import mesh as _mesh
+
     configure_offscreen()
     mesh = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    flat = shading == "flat"
+    if flat and curvature is not None and color_map is not None:
+        mesh = _mesh.color_cells(mesh, curvature, color_map, **(map_options or {}))
+    elif flat and "RGB" in mesh.point_data:
+        mesh = _mesh.color_cells(mesh)
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size), lighting="none" if flat else "light kit")
+    if flat:
+        plotter.add_light(pv.Light(light_type="headlight"))
     plotter.set_background("white")
-    if "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
+    if flat:
+        plotter.add_mesh(mesh, show_edges=edges, ambient=0.3, diffuse=0.7, smooth_shading=False,
+                         **({"scalars": "RGB", "rgb": True, "preference": "cell"} if "RGB" in mesh.cell_data else {"color": "#d9d9d9"}))
+    elif "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
         plot_mesh(mesh, plotter, show_edges=edges)
     else:
         plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True)
