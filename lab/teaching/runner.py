@@ -201,7 +201,7 @@ def _visualize_block():
 
 #: Helpers a task may call, named in the task text.
 ALLOWED_HELPERS = {
-    "visualize_curvature": "lab.colormaps.h, f1, f2, f3, numpy",
+    "visualize_curvature": "lab.colormaps.h, f1, f2, f3, numpy, math",
     "derivative_nets": "numpy (np.diff)",
     "corner_derivatives": "numpy",
     "fundamental_forms": "numpy (np.cross, np.dot, np.linalg.norm)",
