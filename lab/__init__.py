@@ -46,6 +46,7 @@ MODULES = {
     "geodesics": "lab.interrogation.geodesics",
     "trimming": "lab.interrogation.trimming",
     "render": "lab.view.render",
+    "figures": "lab.view.figures",
     "widgets": "lab.view.explorers",
     "check": "lab.teaching.check",
     "grading": "lab.teaching.grading",

@@ -494,3 +494,14 @@ def test_partial_fan_errors():
         lab.geodesic_fan(plane, (0.5, 0.5), None, 1.0, angles=[0.0, 7.0])
     with pytest.raises(ValueError, match=r"n_angles \(3\) must equal the number of angles given \(2\)"):
         lab.geodesic_fan(plane, (0.5, 0.5), 3, 1.0, angles=[0.0, 1.0])
+
+
+def test_isodistance_figure_draws_a_png():
+    from lab import figures
+
+    s = surfaces.isodistance_sections_example()
+    fan = normal_section_fan(s, (0.1, 0.5), 12, 1.0)
+    image = figures.isodistance_figure(fan, polar_isodistance(fan, [0.3, 0.9]), title="t")
+    assert image.data[:4] == b"\x89PNG"
+    with pytest.raises(TypeError, match="fan must be a lab.Fan; got list"):
+        figures.isodistance_figure(list(fan), [])
