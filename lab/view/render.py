@@ -24,7 +24,9 @@ def configure_offscreen():
 def plot_mesh(mesh, plotter, *, show_edges=False, scalars=None, cmap="viridis", **kwargs):
     """Add a curvature mesh to ``plotter``: its ``RGB`` colours if present, else ``scalars`` with ``cmap``."""
     if scalars is None and "RGB" in mesh.cell_data:  # e.g. stripe mappings: one colour per facet
-        return plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges, **kwargs)
+        lit = "lit" in mesh.field_data  # colours that already contain their shading (the paper's colour plate 1)
+        return plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges,
+                                **({"lighting": False} if lit else {}), **kwargs)
     if scalars is None and "RGB" in mesh.point_data:
         return plotter.add_mesh(mesh, scalars="RGB", rgb=True, show_edges=show_edges, smooth_shading=True, **kwargs)
     return plotter.add_mesh(mesh, scalars=scalars, cmap=cmap, show_edges=show_edges, smooth_shading=True, **kwargs)
