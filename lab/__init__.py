@@ -65,6 +65,7 @@ _NAMES = {
                                     "normal_section", "normal_section_fan", "polar_isodistance"),
     "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
+    "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}

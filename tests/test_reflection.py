@@ -408,7 +408,7 @@ def test_paper_case_3_is_subdivided_until_cases_1_and_2():
     np.testing.assert_allclose(_areas(sm.points, sm.triangles).sum(), _areas(X, T).sum(), rtol=1e-12)
     # every output cell has the colour of one of its own corners' rays or of a border point it touches:
     # in particular every cell from case 1 or 2 has one colour and the mesh covers each input triangle
-    keys, _ = RP.colors_at(sm, box, X, T)
+    keys, _ = RP.colors_at(sm.points, sm.triangles, sm.parent, RP._color_key(box, sm.face, sm.stripe), X, T)
     assert np.all(keys >= 0)
     with pytest.raises(ValueError, match="max_depth must be a non-negative integer; got -1"):
         RP.paper_stripe_map(X, T, mesh.point_data["N"], box, E, max_depth=-1)
@@ -432,3 +432,16 @@ def test_paper_shading_is_lit_by_the_stripe_colour():
     plotter.close()
     with pytest.raises(ValueError, match="unknown method 'fast'; expected one of 'exact', 'paper'"):
         I.stripe_mapping(plane, method="fast")
+
+
+def test_compare_stripe_methods_on_one_tessellation():
+    plane = surfaces.plane()
+    same = lab.compare_stripe_methods(plane, resolution=12, n_stripes=8, eye=(0.5, 0.5, 2.0))
+    assert same.difference < 0.002 and same.unresolved == 0  # the plane: the paper's split is exact
+    assert np.array_equal(np.unique(same.exact.cell_data["parent"]), np.unique(same.paper.cell_data["parent"]))
+    coarse = lab.compare_stripe_methods(surfaces.cylinder(1.0, 2.0), resolution=41, n_stripes=6, view=(1.0, 0.4, 0.0),
+                                        axes=(1, 1, 0, 0, 0, 0))
+    assert coarse.difference > 0.3  # facets wider than the mapped stripes: the paper's vertex colours lose stripes
+    assert "colours differ on" in repr(coarse)
+    with pytest.raises(TypeError, match="runs both methods unshaded; do not pass method="):
+        lab.compare_stripe_methods(plane, method="paper")

@@ -37,7 +37,7 @@ import numpy as np
 
 from .reflection import FACE_PAIRS, StripeMesh, box_weights, face_borders, reflect, stripe_colors, stripe_phase
 
-__all__ = ["paper_stripe_map", "vertex_stripes", "color_difference", "colors_at", "stripe_shading"]
+__all__ = ["paper_stripe_map", "vertex_stripes", "color_difference", "area_difference", "colors_at", "stripe_shading"]
 
 
 def vertex_stripes(box, X, N, E):
@@ -216,8 +216,21 @@ def paper_stripe_map(points, triangles, normals, box, E, *, max_depth=6):
     return mesh, unresolved
 
 
-def colors_at(stripe_mesh, box, original_points, original_triangles, order=12):
-    """Colour keys of a stripe mesh at ``(order+1)(order+2)/2`` barycentric sample points of every input triangle.
+def colors_at(points, triangles, parent, cell_keys, original_points, original_triangles, order=12):
+    """Colour keys of a split mesh at ``order²`` sample points (sub-triangle centroids) of every input triangle.
+
+    Parameters
+    ----------
+    points, triangles : (k, 3), (c, 3) array_like
+        The split mesh (a :class:`StripeMesh`'s or a stripe mapping's).
+    parent : (c,) int array_like
+        Input triangle of each cell.
+    cell_keys : (c,) int array_like
+        A colour key per cell (equal keys: equal colours).
+    original_points, original_triangles : (k0, 3), (t, 3) array_like
+        The input mesh that was split.
+    order : int
+        Samples per triangle edge.
 
     Returns
     -------
@@ -228,18 +241,19 @@ def colors_at(stripe_mesh, box, original_points, original_triangles, order=12):
     """
     P = np.asarray(original_points, dtype=float)
     T0 = np.asarray(original_triangles, dtype=np.int64)
-    i, j = np.meshgrid(np.arange(order + 1), np.arange(order + 1), indexing="ij")
-    inside = i + j <= order
-    lam = np.stack([i[inside], j[inside]], axis=1) / order  # (s, 2): weights of corners 1 and 2
+    # the centroids of the order² congruent sub-triangles: equal areas, none on an edge or a mid-line
+    i, j = np.meshgrid(np.arange(order), np.arange(order), indexing="ij")
+    up = i + j <= order - 1
+    down = i + j <= order - 2
+    lam = np.concatenate([np.stack([i[up] + 1 / 3, j[up] + 1 / 3], axis=1),
+                          np.stack([i[down] + 2 / 3, j[down] + 2 / 3], axis=1)]) / order  # weights of corners 1, 2
     s = len(lam)
-    wts = np.full(s, 1.0)
-    edge = (lam == 0).any(axis=1) | (lam.sum(axis=1) == 1)
-    wts[edge] = 0.5  # samples on the edges are shared with the neighbour
-    wts /= wts.sum()
+    wts = np.full(s, 1.0 / s)
     keys = np.full((len(T0), s), -1)
-    cells = stripe_mesh.triangles
-    par = stripe_mesh.parent
-    ck = _color_key(box, stripe_mesh.face, stripe_mesh.stripe)
+    cells = np.asarray(triangles, dtype=np.int64)
+    par = np.asarray(parent, dtype=np.int64)
+    ck = np.asarray(cell_keys)
+    points = np.asarray(points, dtype=float)
     a = P[T0[par, 0]]
     e1, e2 = P[T0[par, 1]] - a, P[T0[par, 2]] - a
     G = np.stack([np.einsum("ij,ij->i", e1, e1), np.einsum("ij,ij->i", e1, e2), np.einsum("ij,ij->i", e2, e2)], 1)
@@ -250,7 +264,7 @@ def colors_at(stripe_mesh, box, original_points, original_triangles, order=12):
         r1, r2 = np.einsum("ij,ij->i", d, e1), np.einsum("ij,ij->i", d, e2)
         return np.stack([(G[:, 2] * r1 - G[:, 1] * r2) / det, (G[:, 0] * r2 - G[:, 1] * r1) / det], axis=1)
 
-    corners = [bary(stripe_mesh.points[cells[:, k]]) for k in range(3)]  # (c, 2) each
+    corners = [bary(points[cells[:, k]]) for k in range(3)]  # (c, 2) each
     for start in range(0, len(cells), 20000):
         sl = slice(start, start + 20000)
         c0, c1, c2 = (c[sl][:, None, :] for c in corners)
@@ -270,15 +284,21 @@ def colors_at(stripe_mesh, box, original_points, original_triangles, order=12):
 
 
 def color_difference(mesh_a, mesh_b, box, original_points, original_triangles, order=12):
-    """Fraction of the surface area where two stripe meshes of the same input mesh show different colours.
+    """Fraction of the surface area where two :class:`StripeMesh` splits of the same input mesh differ in colour.
 
     Samples every input triangle at barycentric points (:func:`colors_at`) and
-    weighs them by the triangle's area.
+    weighs them by the triangle's area (:func:`area_difference`).
     """
+    parts = [(m.points, m.triangles, m.parent, _color_key(box, m.face, m.stripe)) for m in (mesh_a, mesh_b)]
+    return area_difference(*parts, original_points, original_triangles, order)
+
+
+def area_difference(a, b, original_points, original_triangles, order=12):
+    """Fraction of the area of the input mesh where two splits ``(points, triangles, parent, cell_keys)`` differ."""
     P = np.asarray(original_points, dtype=float)
     T0 = np.asarray(original_triangles, dtype=np.int64)
-    ka, w = colors_at(mesh_a, box, P, T0, order)
-    kb, _ = colors_at(mesh_b, box, P, T0, order)
+    ka, w = colors_at(*a, P, T0, order)
+    kb, _ = colors_at(*b, P, T0, order)
     area = 0.5 * np.linalg.norm(np.cross(P[T0[:, 1]] - P[T0[:, 0]], P[T0[:, 2]] - P[T0[:, 0]]), axis=1)
     differ = (ka != kb).astype(float) @ w
     return float(differ @ area / area.sum())
