@@ -18,6 +18,7 @@ from .runner import ALLOWED_HELPERS, DEFAULT_TIMEOUT
 from .tasks_colors import f1, f2, f3, h, visualize_curvature
 from .tasks_curvature import corner_derivatives, curvatures, curve_curvature, derivative_nets, fundamental_forms, warmup
 from .tasks_interrogation import christoffel, focal_points, reflect, start_velocity
+from .tasks_trimming import signed_area
 
 __all__ = [
     "ALLOWED_HELPERS",
@@ -62,6 +63,7 @@ TASKS = {
     "reflect": reflect,
     "christoffel": christoffel,
     "start_velocity": start_velocity,
+    "signed_area": signed_area,
 }
 
 
