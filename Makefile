@@ -42,7 +42,7 @@ test: setup
 
 # Regenerate exercises/ from solutions/ (refuses to overwrite exercises a student has edited).
 exercises: setup
-	$(PY) -m lab.notebooks
+	$(PY) -m lab.teaching.notebooks
 
 benchmarks: setup
 	$(PY) benchmarks/curvature.py

@@ -1,15 +1,17 @@
-"""Matplotlib figures of path fans and polar isodistance curves, laid out like ``seeds/003`` figures 1–3.
+"""Matplotlib figures in the parameter domain: path fans with polar isodistance curves and trimming loops.
 
-The paper draws the normal sections (or geodesics) from a point with their
-polar isodistance curves on the surface (figures 1, 2) and in the parameter
-domain (figure 3); :func:`isodistance_figure` draws both side by side.
+Puig-Pey et al. draw the normal sections (or geodesics) from a point with
+their polar isodistance curves on the surface (``seeds/003`` figures 1, 2)
+and in the parameter domain (figure 3); :func:`isodistance_figure` draws both
+side by side.  Choi and Lee draw the trimming loops and the triangulation in
+the domain (``seeds/002`` figures 2, 8a): :func:`trimming_figure`.
 """
 
 import io
 
 import numpy as np
 
-__all__ = ["isodistance_figure", "PATH_COLOR", "CLOSED_COLOR", "OPEN_COLOR"]
+__all__ = ["isodistance_figure", "trimming_figure", "PATH_COLOR", "CLOSED_COLOR", "OPEN_COLOR"]
 
 PATH_COLOR = "#1f3b73"  #: the paths (normal sections or geodesics)
 CLOSED_COLOR = "#d62728"  #: closed isodistance curves
@@ -40,7 +42,6 @@ def isodistance_figure(fan, curves, *, title=None, size=(10.0, 4.4), grid=41):
     import matplotlib
 
     matplotlib.use("Agg", force=False)
-    from IPython.display import Image
     from matplotlib.figure import Figure
 
     if not hasattr(fan, "paths") or not hasattr(fan, "origin"):
@@ -72,6 +73,50 @@ def isodistance_figure(fan, curves, *, title=None, size=(10.0, 4.4), grid=41):
     if title:
         fig.suptitle(title)
     fig.tight_layout()
+    return _png(fig)
+
+
+def _png(fig):
+    from IPython.display import Image
+
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
     return Image(data=buf.getvalue(), format="png")
+
+
+def trimming_figure(trimmed, triangulation=None, *, title=None, size=(6.0, 5.0), arrows=8):
+    """The trimming loops of a :class:`lab.trimming.TrimmedSurface` in its domain, with their direction.
+
+    The outer loop is drawn blue, holes red, each with ``arrows`` arrow heads
+    showing the direction (outer counter-clockwise, holes clockwise: the
+    region lies to the left).  With ``triangulation`` (``(uv, triangles)``,
+    e.g. ``trimmed.triangulate()``) its triangles are drawn too.
+
+    Returns
+    -------
+    IPython.display.Image
+        A PNG, like :func:`lab.render.show`.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    from matplotlib.figure import Figure
+
+    if not hasattr(trimmed, "outer") or not hasattr(trimmed, "holes"):
+        raise TypeError(f"trimmed must be a lab.trimming.TrimmedSurface; got {type(trimmed).__name__}")
+    fig = Figure(figsize=size, dpi=100)
+    ax = fig.add_subplot()
+    if triangulation is not None:
+        uv, tri = triangulation
+        ax.triplot(uv[:, 0], uv[:, 1], tri, color="#999999", lw=0.4)
+    for loop, color in [(trimmed.outer, PATH_COLOR)] + [(h, CLOSED_COLOR) for h in trimmed.holes]:
+        closed = np.vstack([loop, loop[:1]])
+        ax.plot(closed[:, 0], closed[:, 1], color=color, lw=1.6)
+        for i in np.linspace(0, len(loop), arrows, endpoint=False).astype(int):
+            a, b = closed[i], closed[i + 1]
+            ax.annotate("", xy=a + 0.6 * (b - a), xytext=a, arrowprops=dict(arrowstyle="-|>", color=color, lw=1.2))
+    (u0, u1), (v0, v1) = trimmed.domain
+    ax.set(xlim=(u0, u1), ylim=(v0, v1), xlabel="u", ylabel="v", aspect="equal")
+    ax.set_title(title or "trimming loops in the parameter domain")
+    fig.tight_layout()
+    return _png(fig)
