@@ -86,6 +86,20 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
     raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
 
 
+def _add_flat(plotter, mesh, curvature, color_map, map_options, edges):
+    """Dill's drawing (``seeds/000``): one colour per polygon (:func:`lab.mesh.color_cells`), one light at the eye."""
+    from .. import mesh as _mesh
+
+    if curvature is not None and color_map is not None:
+        mesh = _mesh.color_cells(mesh, curvature, color_map, **(map_options or {}))
+    elif "RGB" in mesh.point_data:
+        mesh = _mesh.color_cells(mesh)
+    plotter.remove_all_lights()
+    plotter.add_light(pv.Light(light_type="headlight"))
+    colors = {"scalars": "RGB", "rgb": True, "preference": "cell"} if "RGB" in mesh.cell_data else {"color": "#d9d9d9"}
+    plotter.add_mesh(mesh, show_edges=edges, ambient=0.3, diffuse=0.7, smooth_shading=False, **colors)
+
+
 def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=False, net=False, title=None,
          resolution=1, n=64, direction=VIEW_DIRECTION, map_options=None, shading="smooth"):
     """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
@@ -113,22 +127,12 @@ def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=F
 
     if shading not in ("smooth", "flat"):
         raise ValueError(f"shading must be 'smooth' or 'flat'; got {shading!r}")
-    from .. import mesh as _mesh
-
     configure_offscreen()
     mesh = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
-    flat = shading == "flat"
-    if flat and curvature is not None and color_map is not None:
-        mesh = _mesh.color_cells(mesh, curvature, color_map, **(map_options or {}))
-    elif flat and "RGB" in mesh.point_data:
-        mesh = _mesh.color_cells(mesh)
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size), lighting="none" if flat else "light kit")
-    if flat:
-        plotter.add_light(pv.Light(light_type="headlight"))
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     plotter.set_background("white")
-    if flat:
-        plotter.add_mesh(mesh, show_edges=edges, ambient=0.3, diffuse=0.7, smooth_shading=False,
-                         **({"scalars": "RGB", "rgb": True, "preference": "cell"} if "RGB" in mesh.cell_data else {"color": "#d9d9d9"}))
+    if shading == "flat":
+        _add_flat(plotter, mesh, curvature, color_map, map_options, edges)
     elif "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
         plot_mesh(mesh, plotter, show_edges=edges)
     else:
