@@ -89,7 +89,7 @@ def main():
     rows.append(("depth change to 5", ours, revisit, "(revisit, cached)"))
 
     # fan of 40 geodesics on the practical's surface
-    g = GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=40, step=0.5, count=9, live=False)
+    g = GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=40, step=0.5, n_curves=9, live=False)
     g.screenshot()
     starts = iter([(4.8, 2.2), (4.9, 2.1)] * (args.repeat + 1))  # each differs from the one before
 

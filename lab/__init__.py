@@ -46,6 +46,7 @@ MODULES = {
     "geodesics": "lab.interrogation.geodesics",
     "trimming": "lab.interrogation.trimming",
     "render": "lab.view.render",
+    "figures": "lab.view.figures",
     "widgets": "lab.view.explorers",
     "check": "lab.teaching.check",
     "grading": "lab.teaching.grading",
@@ -64,6 +65,7 @@ _NAMES = {
                                     "normal_section", "normal_section_fan", "polar_isodistance"),
     "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
+    "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}

@@ -186,7 +186,7 @@ def test_delegation_to_the_library_is_refused():
 
     rep = check.visualize_curvature(Super)
     assert rep.status == "delegated" and "BezierPatches.visualize_curvature" in rep.message
-    assert "allowed helpers: lab.colormaps.h, f1, f2, f3" in rep.message
+    assert "allowed helpers: lab.colormaps.h, f1, f2, f3, math, numpy." in rep.message  # as the task text says
 
     from lab.curvature import from_derivatives  # imported before the check: still caught
 

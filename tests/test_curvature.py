@@ -223,3 +223,14 @@ def test_parametric_surface_errors():
         lab.ParametricSurface.from_sympy((u, v, u * v), (u, v), ((0, 1), (1, 0)))
     with pytest.raises(TypeError, match="derivatives must be callable; got int"):
         lab.ParametricSurface(3, ((0, 1), (0, 1)))
+
+
+def test_records_print_plain_numbers():
+    """Notebooks show ``Curvature(K=0.25, …)``, not ``np.float64(0.25)`` reprs."""
+    sphere = lab.surfaces.sphere(2.0)
+    text = repr(sphere.curvature(0.3, 0.4))
+    assert "np.float64" not in text and "np.False_" not in text
+    assert text.startswith("Curvature(K=0.2499999999999999, H=-0.4999") and "degenerate=False" in text
+    arrays = repr(sphere.curvature(np.array([0.3, 0.6]), 0.4))
+    assert "K=[0.25, 0.25]" in arrays and "array(" not in arrays
+    assert "np.float64" not in repr(sphere.fundamental_forms(0.3, 0.4))

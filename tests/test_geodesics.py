@@ -281,7 +281,9 @@ def test_arc_length_parametrisation(fan_function):
     for p in fan:
         np.testing.assert_allclose(np.linalg.norm(tangent_3d(s, p), axis=1), 1, atol=1e-8)
         chords = np.linalg.norm(np.diff(p.points, axis=0), axis=1)
-        assert np.all(chords <= np.diff(p.s) * (1 + 1e-9))
+        # a chord is never longer than its arc; the sampled points carry the integrator's error
+        # (rtol 1e-10 on coordinates of size ~10: ~1e-9), measured excess up to 9e-11 here
+        assert np.all(chords <= np.diff(p.s) + 1e-9)
 
 
 def test_normal_sections_lie_in_their_plane_on_a_freeform_surface():
@@ -324,7 +326,7 @@ def test_geodesic_across_patches_matches_a_plain_solve_ivp_reference():
         return min(y[0] - u0, u1 - y[0], y[1] - v0, v1 - y[1])
 
     leave.terminal, leave.direction = True, -1
-    for alpha in (0.3, 4.0):  # the second leaves the domain
+    for alpha in (1.5, 4.0):  # the first stays inside (crossing 7 knot spans), the second leaves the domain
         _, duv = start_direction(s, uv, alpha)
         ref = solve_ivp(rhs, (0, 4.5), np.r_[uv, duv], method="DOP853", rtol=1e-12, atol=1e-13, events=leave)
         p = geodesic(s, uv, alpha, 4.5)
@@ -492,3 +494,14 @@ def test_partial_fan_errors():
         lab.geodesic_fan(plane, (0.5, 0.5), None, 1.0, angles=[0.0, 7.0])
     with pytest.raises(ValueError, match=r"n_angles \(3\) must equal the number of angles given \(2\)"):
         lab.geodesic_fan(plane, (0.5, 0.5), 3, 1.0, angles=[0.0, 1.0])
+
+
+def test_isodistance_figure_draws_a_png():
+    from lab import figures
+
+    s = surfaces.isodistance_sections_example()
+    fan = normal_section_fan(s, (0.1, 0.5), 12, 1.0)
+    image = figures.isodistance_figure(fan, polar_isodistance(fan, [0.3, 0.9]), title="t")
+    assert image.data[:4] == b"\x89PNG"
+    with pytest.raises(TypeError, match="fan must be a lab.Fan; got list"):
+        figures.isodistance_figure(list(fan), [])

@@ -155,3 +155,121 @@ def test_mesh_normals_and_parameters():
     assert uv.shape == (64, 2) and uv.min() == 0 and uv.max() < 1  # the seam keeps u = 0, not an average
     np.testing.assert_allclose(t.points, surfaces.torus().evaluate(uv[:, 0], uv[:, 1]), atol=1e-12)
     assert surfaces.torus().periodic == (True, True) and surfaces.practical().periodic == (False, False)
+
+
+def _sine_wave_mesh():
+    with pytest.warns(lab.DegeneratePointWarning):  # the centre rho = 0 is a collapsed edge
+        return M.surface_mesh(surfaces.sine_wave(), 96, 96)
+
+
+def test_collapsed_edges_become_triangles_and_vtk_normals_agree_with_the_exact_ones():
+    """Dill's sine wave of revolution: its edge rho = 0 collapses to the centre.
+
+    Welded quads (c, c, a, b) there used to reach VTK as quads; its normal
+    filter (run by PyVista for smooth shading) then flipped all cells but a
+    strip at the seam, and the vertex normals on the strip's borders nearly
+    cancelled: the dark streak from the centre outwards.
+    """
+    m = _sine_wave_mesh()
+    faces = M.build._faces(m)
+    assert sum(len(f) == 3 for f in faces) == 95 and all(len(set(f)) == len(f) for f in faces)
+    assert m.n_cells == 95 * 95
+    shaded = m.compute_normals(cell_normals=True, split_vertices=False)  # what smooth shading computes
+    assert np.all(np.asarray(shaded.cell_data["Normals"])[:, 2] > 0)  # one orientation: up, as b_u x b_v
+    cos = np.einsum("ij,ij->i", shaded.point_data["Normals"], m.point_data["N"])
+    assert cos.min() > 0.99  # before the fix: 8836 of 9026 vertices below 0.9 (flipped or cancelled)
+    with pytest.warns(lab.DegeneratePointWarning):
+        s = M.surface_mesh(surfaces.sphere(1.0), 9, 7)
+    assert sum(len(f) == 3 for f in M.build._faces(s)) == 2 * 8  # a fan of triangles at each pole
+    assert s.n_cells == 8 * 6
+
+
+def test_sine_wave_is_shaded_without_a_streak():
+    """A uniformly coloured sine wave seen from above with a headlight is rotationally symmetric in brightness."""
+    import pyvista as pv
+
+    render.configure_offscreen()
+    m = _sine_wave_mesh()
+    plotter = pv.Plotter(off_screen=True, window_size=[400, 400], lighting="none")
+    plotter.add_light(pv.Light(light_type="headlight"))
+    plotter.set_background("black")
+    plotter.add_mesh(m, color="white", smooth_shading=True)  # smooth shading as render.show and the CLI draw it
+    plotter.camera_position = [(0, 0, 40), (0, 0, 0), (0, 1, 0)]
+    plotter.camera.parallel_projection = True
+    plotter.reset_camera()
+    image = np.asarray(plotter.screenshot(None, return_img=True), dtype=float).mean(axis=-1)
+    plotter.close()
+    # compare each pixel with its mirror image across the centre: the seam (phi = 0, +x) against phi = pi
+    ys, xs = np.nonzero(image > 0)
+    cy, cx = (ys.min() + ys.max()) / 2, (xs.min() + xs.max()) / 2
+    h, w = image.shape
+    yy, xx = np.mgrid[0:h, 0:w]
+    r = np.hypot(yy - cy, xx - cx)
+    disc = r < 0.9 * min(cy - ys.min(), cx - xs.min())
+    mirror = image[np.clip(np.round(2 * cy - yy).astype(int), 0, h - 1), np.clip(np.round(2 * cx - xx).astype(int), 0, w - 1)]
+    diff = np.abs(image - mirror)[disc]
+    # measured: mirrored pixels differ by at most 1 grey level; with the streak 5.1 % of the disc
+    # differed by more than 40 (a light position or driver change moves pixels by a few levels only)
+    assert np.mean(diff > 40) < 0.002, f"{np.mean(diff > 40):.2%} of the disc differs from its mirror image"
+
+
+def test_color_cells_colours_each_polygon_by_the_mean_of_its_vertices():
+    """Dill's polygons (seeds/000, "Image generation"): values averaged over the vertices, then the colour table."""
+    t = surfaces.torus(2.0, 1.0)
+    m = M.surface_mesh(t, 67, 67)  # 66 cells around the tube: the rims u = 1/4, 3/4 run through cell centres
+    flat = M.color_cells(m, "gaussian", "dill")
+    faces = M.build._faces(m)
+    expected = np.array([m.point_data["K"][f].mean() for f in faces])
+    np.testing.assert_allclose(flat.cell_data["values"], expected, rtol=1e-12, atol=1e-15)
+    np.testing.assert_array_equal(flat.cell_data["RGB"], np.round(255 * lab.colormaps.dill(expected)))
+    assert "RGB" not in flat.point_data and "RGB" not in m.cell_data  # a copy
+    # named cells: outside red (K = 1/3), inside blue (K = -1), on the rims yellow (K ~ 0)
+    centre = np.array([m.points[f].mean(axis=0) for f in faces])
+    rho = np.hypot(centre[:, 0], centre[:, 1])
+    names = lab.colormaps.dill_names(expected)
+    on_rim = np.abs(rho - 2.0) < 0.05
+    assert on_rim.sum() == 2 * 66 and set(names[on_rim]) == {"yellow"}
+    assert set(names[rho > 2.5]) == {"red"} and set(names[rho < 1.5]) == {"blue"}
+    # without a map: the mean of the vertices' colours
+    m.point_data["RGB"] = np.tile(np.array([[255, 0, 0], [0, 0, 255]], np.uint8), (m.n_points // 2 + 1, 1))[: m.n_points]
+    plain = M.color_cells(m)
+    np.testing.assert_allclose(plain.cell_data["RGB"], [np.round(m.point_data["RGB"][f].mean(axis=0)) for f in faces], atol=0.5)
+    with pytest.raises(ValueError, match="needs a curvature mode and a colour map, or a mesh with RGB point colours"):
+        M.color_cells(M.surface_mesh(t, 5, 5))
+
+
+def _hue_outliers(image, colours):
+    """Fraction of surface pixels (away from its silhouette) whose colour is no shade of one of ``colours``."""
+    from scipy.ndimage import binary_erosion
+
+    img = np.asarray(image, dtype=float)[..., :3]
+    surface = binary_erosion(np.any(np.abs(img - 255) > 8, axis=-1), iterations=2)  # not the background
+    img = img[surface & (img.max(axis=-1) > 40)]
+    unit = img / np.linalg.norm(img, axis=1, keepdims=True)
+    c = np.asarray(colours, float) / np.linalg.norm(colours, axis=1, keepdims=True)
+    return np.mean((unit @ c.T).max(axis=1) < 0.995)
+
+
+def _distinct_colours(image):
+    img = np.asarray(image)[..., :3]
+    return len(np.unique(img[np.any(img < 247, axis=-1)].reshape(-1, 3), axis=0))
+
+
+def test_flat_shading_draws_each_polygon_in_one_of_dills_colours():
+    import io
+
+    from PIL import Image
+
+    t = surfaces.torus(2.0, 1.0)
+    kwargs = dict(curvature="gaussian", color_map="dill", n=19, window_size=(640, 480))  # 18 x 18 big polygons
+    flat = np.asarray(Image.open(io.BytesIO(render.show(t, shading="flat", **kwargs).data)))
+    smooth = np.asarray(Image.open(io.BytesIO(render.show(t, **kwargs).data)))
+    # a light at the eye with ambient + Lambert only scales a polygon's one colour: every pixel is a shade
+    # of one of the five colours, except anti-aliased polygon borders (measured 1.2 % of the pixels);
+    # smooth shading blends neighbouring colours (measured 11.7 %)
+    assert _hue_outliers(flat, lab.colormaps.DILL_COLORS) < 0.03
+    assert _hue_outliers(smooth, lab.colormaps.DILL_COLORS) > 0.06
+    # and one shade per polygon: few distinct colours (measured 339 flat, 1870 smooth)
+    assert _distinct_colours(flat) < _distinct_colours(smooth) / 3
+    with pytest.raises(ValueError, match="shading must be 'smooth' or 'flat'; got 'phong'"):
+        render.show(t, shading="phong")

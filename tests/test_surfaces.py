@@ -17,13 +17,49 @@ def test_practical_is_exactly_the_practicals_example():
     np.testing.assert_array_equal(s.knots_v, expected_knots)
     P = s.control_points
     assert P.shape == (10, 10, 3)
-    np.testing.assert_array_equal(P[:, 0, 0], np.arange(-5, 5))  # x along the first index (u)
-    np.testing.assert_array_equal(P[0, :, 1], np.arange(-5, 5))
-    x, y = -5.0, 4.0
+    np.testing.assert_array_equal(P[:, 0, 1], np.arange(-5, 5))  # y along the first index (u)
+    np.testing.assert_array_equal(P[0, :, 0], np.arange(-5, 5))  # x along the second index (v)
+    x, y = 4.0, -5.0  # P[0, 9]: the first row (y = -5), the last column (x = 4)
     assert P[0, 9, 2] == pytest.approx(x**2 / 5 + x * y / 4 + 10 / (1 + x**2 + y**2) + y / 2, rel=1e-15)
     assert P[5, 5, 2] == pytest.approx(10.0)  # the bump at the origin
     assert len(s.to_bezier_patches()) == 49
     assert len(s.to_bezier_patches().refine(1)) == 196
+
+
+def test_practical_is_built_like_the_course_program():
+    """The course program: ``[[point(x, y, f(x, y)) for x in range(-5, 5)] for y in range(-5, 5)]``, outer index = u.
+
+    So u runs along y, the normal b_u x b_v points down, and at the bump's top
+    H > 0 and k1 > 0 (seeds/README.md: H ~ +6.08, k1 ~ +6.64, N_z ~ -0.89).
+    """
+    f = surfaces.practical_height
+    course_net = np.array([[(x, y, f(x, y)) for x in range(-5, 5)] for y in range(-5, 5)], dtype=float)
+    s = surfaces.practical()
+    np.testing.assert_array_equal(s.control_points, course_net)
+    # u runs along y, v along x
+    du = s.evaluate(4.5, 3.0) - s.evaluate(3.5, 3.0)
+    dv = s.evaluate(3.0, 4.5) - s.evaluate(3.0, 3.5)
+    assert du[0] == pytest.approx(0, abs=1e-12) and du[1] > 0.9
+    assert dv[1] == pytest.approx(0, abs=1e-12) and dv[0] > 0.9
+    # at the bump's top, (u, v) = (4, 4), x = y = 0: a cap whose normal points down, H > 0
+    np.testing.assert_allclose(s.evaluate(4.0, 4.0)[:2], [0, 0], atol=1e-12)
+    N = s.normal(4.0, 4.0)
+    c = s.curvature(4.0, 4.0)
+    assert N[2] == pytest.approx(-2 / np.sqrt(5), rel=1e-12)  # (0, 1/2, -1)/|.|: -0.894
+    assert float(c.H) == pytest.approx(6.0821, abs=5e-5) and float(c.H) > 0
+    assert float(c.k1) == pytest.approx(6.6362, abs=5e-5)
+    assert float(c.k2) == pytest.approx(5.5280, abs=5e-5)
+    assert float(c.K) == pytest.approx(float(c.k1 * c.k2), rel=1e-12)
+    # the normal points down everywhere (x depends on v only, y on u only: the z-component is -x_v y_u)
+    U, V = np.meshgrid(np.linspace(0, 7, 15), np.linspace(0, 7, 15), indexing="ij")
+    assert np.all(s.normal(U, V)[..., 2] < 0)
+    # the old, transposed net (x along u) has the opposite orientation: same K, opposite H
+    t = s.swap_uv()
+    np.testing.assert_array_equal(t.control_points, s.control_points.transpose(1, 0, 2))
+    ct = t.curvature(4.0, 4.0)
+    assert float(ct.K) == pytest.approx(float(c.K), rel=1e-12)
+    assert float(ct.H) == pytest.approx(-float(c.H), rel=1e-12)
+    assert t.normal(4.0, 4.0)[2] > 0
 
 
 def test_hood_has_a_flat_spot_and_a_crease():

@@ -327,3 +327,16 @@ def test_max_area_refines():
     areas = triangle_areas(uv, tri)
     assert areas.max() <= 1e-3 * (1 + 1e-12)
     np.testing.assert_allclose(areas.sum(), s.area_uv, rtol=1e-12)
+
+
+def test_triangulation_areas_and_angles():
+    s = T.trimmed(surfaces.plane(), T.circle((0.5, 0.5), 0.4, n=64), holes=[T.rectangle((0.4, 0.4), (0.6, 0.6), clockwise=True)])
+    t = s.triangulate(n_u=9, n_v=9, min_angle=25.0)
+    np.testing.assert_allclose(t.areas, triangle_areas(t.uv, t.triangles), rtol=1e-12)
+    assert np.all(t.areas > 0)  # counter-clockwise
+    np.testing.assert_allclose(t.areas.sum(), s.area_uv, rtol=1e-12)
+    np.testing.assert_allclose(t.angles.sum(axis=1), 180.0, atol=1e-9)
+    assert t.angles.min() >= 25.0 - 1e-9  # Triangle's quality guarantee (no input angle is smaller here)
+    right = T.Triangulation(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), np.array([[0, 1, 2]]))
+    np.testing.assert_allclose(right.angles, [[90.0, 45.0, 45.0]], atol=1e-12)
+    assert right.areas[0] == 0.5

@@ -131,8 +131,9 @@ def test_focal_explorer_moves_points_by_a_f_n():
 
 
 def test_geodesic_explorer_messages_and_fans():
-    g = GeodesicExplorer(surfaces.plane(4.0), start=(0.5, 0.5), n_angles=12, step=0.5, count=3, live=False)
+    g = GeodesicExplorer(surfaces.plane(4.0), start=(0.5, 0.5), n_angles=12, step=0.5, n_curves=3, live=False)
     assert g.status.value == "" and len(g.fan) == 12
+    assert [len(pieces) for pieces in g.isodistance] == [1, 1, 1]  # three isodistance curves, twelve paths
     g.count.value = 12  # 6 units: beyond the 4 x 4 plane
     assert "paths reach the boundary" in g.status.value and "no path reaches" in g.status.value
     g.angle_range.value = (90.0, 90.0)
@@ -140,6 +141,12 @@ def test_geodesic_explorer_messages_and_fans():
     g.angle_range.value = (0.0, 90.0)
     assert not g.fan.full_circle and len(g.fan) == 12
     assert g.domain_view.value[:4] == b"\x89PNG"
+
+
+def test_geodesic_explorer_old_count_keyword_still_works():
+    with pytest.warns(DeprecationWarning, match=r"count=…\) is deprecated: the number of isodistance curves is now n_curves"):
+        g = GeodesicExplorer(surfaces.plane(4.0), start=(0.5, 0.5), n_angles=6, step=0.5, count=2, live=False)
+    assert len(g.isodistance) == 2 and len(g.fan) == 6
 
 
 def test_reflection_explorer_kinds():

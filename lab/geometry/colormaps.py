@@ -30,7 +30,9 @@ __all__ = [
     "percentile",
     "signed_log",
     "dill",
+    "dill_names",
     "DILL_COLORS",
+    "DILL_NAMES",
     "DILL_RANGE",
     "COLOR_MAPS",
     "apply",
@@ -52,6 +54,8 @@ DILL_COLORS = np.array(
         [1.0, 0.0, 0.0],  # red
     ]
 )
+#: The names of Dill's colours, in the order of :data:`DILL_COLORS`.
+DILL_NAMES = ("blue", "turquoise", "green", "yellow", "red")
 #: Dill's default curvature range, five bands of width 0.02.
 DILL_RANGE = (-0.07, 0.03)
 
@@ -188,7 +192,10 @@ def dill(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
 
     From low to high: blue, turquoise, green, yellow, red; values outside the
     range take the colour of the nearest band.  The default range -0.07 …
-    0.03 is Dill's (bands of width 0.02, yellow around zero).
+    0.03 is Dill's (bands of width 0.02, yellow for -0.01 … 0.01, so red
+    means K > 0.01).  To keep zero in the middle of the yellow band when
+    changing the range, scale both ends by the same factor ``a``
+    (``vmin = -0.07 a``, ``vmax = 0.03 a``).
 
     Pros: a "school grade" reading (Dill): bands are easy to name and compare.
     Cons: the range must be chosen per surface, and variation inside a band is invisible.
@@ -197,11 +204,23 @@ def dill(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
     -------
     ndarray, shape ``x.shape + (3,)``
     """
+    return DILL_COLORS[_dill_band(x, vmin, vmax)]
+
+
+def dill_names(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
+    """The names of the colours :func:`dill` gives ``x`` ("blue" … "red"), as a string array of ``x``'s shape.
+
+    With Dill's default range: ``dill_names([-0.06, 0.0, 0.02])`` is
+    ``["blue", "yellow", "red"]`` – zero curvature is yellow, red means K > 0.01.
+    """
+    return np.array(DILL_NAMES)[_dill_band(x, vmin, vmax)]
+
+
+def _dill_band(x, vmin, vmax):
     x = _values(x)
     if not vmin < vmax:
         raise ValueError(f"dill needs vmin < vmax; got vmin={vmin:g}, vmax={vmax:g}")
-    band = np.floor(5.0 * (x - vmin) / (vmax - vmin)).astype(int)
-    return DILL_COLORS[np.clip(band, 0, 4)]
+    return np.clip(np.floor(5.0 * (x - vmin) / (vmax - vmin)).astype(int), 0, 4)
 
 
 #: Colour maps by name: each takes values (and keyword options) and returns RGB.

@@ -2,7 +2,8 @@ r"""Curvature of parametric surfaces from their first and second derivatives.
 
 Orientation as in the practical (``seeds/001``, 2.2 and 2.5):
 :math:`\mathbf N = \mathbf b_u \times \mathbf b_v / \|\mathbf b_u \times \mathbf b_v\|`.
-With the fundamental forms (German: *Fundamentalmatrix erster und zweiter Art*)
+With the matrices of the first and second fundamental forms (German: *erste und zweite
+Fundamentalform*; the practical calls the matrices *Fundamentalmatrix erster bzw. zweiter Art*)
 
 .. math::
 
@@ -91,6 +92,17 @@ class DegeneratePointWarning(RuntimeWarning):
     """Some evaluated points have no tangent plane (|b_u x b_v| = 0)."""
 
 
+def _plain_repr(record):
+    """``Name(field=value, …)`` with plain numbers (``-0.25``, not ``np.float64(-0.25)``) for notebooks."""
+
+    def plain(x):
+        x = np.asarray(x)
+        return repr(x.item()) if x.ndim == 0 else np.array2string(x, separator=", ", threshold=24)
+
+    fields = ", ".join(f"{name}={plain(value)}" for name, value in zip(record._fields, record))
+    return f"{type(record).__name__}({fields})"
+
+
 class FundamentalForms(NamedTuple):
     """Coefficients of the first (E, F, G) and second (e, f, g) fundamental forms, and the unit normal N."""
 
@@ -101,6 +113,9 @@ class FundamentalForms(NamedTuple):
     f: np.ndarray
     g: np.ndarray
     N: np.ndarray
+
+    def __repr__(self):
+        return _plain_repr(self)
 
 
 class Curvature(NamedTuple):
@@ -120,6 +135,9 @@ class Curvature(NamedTuple):
     def classify(self, tol=1e-8):
         """Point classes (see :func:`classify`)."""
         return classify(self.k1, self.k2, tol=tol)
+
+    def __repr__(self):
+        return _plain_repr(self)
 
 
 class PointClass(enum.IntEnum):

@@ -389,7 +389,7 @@ def _colors(value, name, count):
 
 
 def stripe_mapping(surface, *, n_stripes=8, eye=None, view=None, margin=0.5, axes=_refl.DEFAULT_AXES,
-                   colors=_refl.DEFAULT_COLORS, background="white", resolution=None):
+                   colors=_refl.DEFAULT_COLORS, background="white", resolution=None, method="exact", shaded=False):
     """Reflection mapping of a box of stripes onto the surface, with crisp stripe borders (``seeds/002`` section 3).
 
     The box encloses the surface (its bounding box grown by ``margin`` times
@@ -420,15 +420,27 @@ def stripe_mapping(surface, *, n_stripes=8, eye=None, view=None, margin=0.5, axe
     background : colour
         Colour between the stripes.
     resolution : int, optional
+    method : {"exact", "paper"}
+        ``"exact"``: split along the exact zero sets (:func:`lab.reflection.stripe_map`);
+        ``"paper"``: Choi and Lee's colour cases 1–3 with the four-facet split of
+        eqs. 5–7 (:func:`lab.interrogation.reflection_paper.paper_stripe_map`).
+    shaded : bool
+        The paper's colour plate 1: each cell lit by its stripe, in the stripe's
+        colour (:func:`lab.interrogation.reflection_paper.stripe_shading`); the
+        mesh then carries field data ``lit`` and is drawn without further lighting.
 
     Returns
     -------
     pyvista.PolyData
         Triangles; cell data ``RGB`` (uint8, active scalars), ``face`` (0–5),
         ``stripe`` (index on the face; even = coloured) and ``parent`` (input
-        triangle); point data ``N`` (interpolated unit normals).  Plot
+        triangle); point data ``N`` (interpolated unit normals); field data
+        ``unresolved`` (paper: case-3 pieces left at the depth limit).  Plot
         with ``plotter.add_mesh(m, scalars="RGB", rgb=True)``.
     """
+    from . import reflection_paper as _paper
+
+    method = _v.as_choice(method, ("exact", "paper"), "method")
     mesh = as_curvature_mesh(surface, resolution)
     n_stripes = _v.as_positive_int(n_stripes, "n_stripes", minimum=1)
     margin = _as_positive_float(margin, "margin")
@@ -448,14 +460,23 @@ def stripe_mapping(surface, *, n_stripes=8, eye=None, view=None, margin=0.5, axe
     if eye_pt is not None and np.any(np.linalg.norm(X - eye_pt, axis=1) == 0):
         raise ValueError("the eye point lies on the surface")
     E = _refl.view_vectors(X, eye=eye_pt, view=view_dir)
-    sm = _refl.stripe_map(X, _triangles(mesh), _normals(mesh), box, E)
+    unresolved = 0
+    if method == "exact":
+        sm = _refl.stripe_map(X, _triangles(mesh), _normals(mesh), box, E)
+    else:
+        sm, unresolved = _paper.paper_stripe_map(X, _triangles(mesh), _normals(mesh), box, E)
     faces = np.hstack([np.full((len(sm.triangles), 1), 3), sm.triangles]).ravel()
     out = pv.PolyData(sm.points, faces)
     out.point_data["N"] = sm.normals
     out.cell_data["face"] = sm.face
     out.cell_data["stripe"] = sm.stripe
     out.cell_data["parent"] = sm.parent
-    out.cell_data["RGB"] = np.round(255 * _refl.stripe_colors(box, sm.face, sm.stripe)).astype(np.uint8)
+    rgb = _refl.stripe_colors(box, sm.face, sm.stripe)
+    if shaded:
+        rgb = _paper.stripe_shading(sm, box, (lambda Y: eye_pt - Y) if eye_pt is not None else view_dir)
+        out.field_data["lit"] = np.array([1])
+    out.cell_data["RGB"] = np.round(255 * rgb).astype(np.uint8)
+    out.field_data["unresolved"] = np.array([unresolved])
     out.set_active_scalars("RGB", preference="cell")
     out.field_data["box_lo"] = box.lo
     out.field_data["box_hi"] = box.hi

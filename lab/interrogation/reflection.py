@@ -46,6 +46,8 @@ __all__ = [
     "view_vectors",
     "stripe_box",
     "box_weights",
+    "face_borders",
+    "FACE_PAIRS",
     "stripe_phase",
     "stripe_map",
     "stripe_colors",
@@ -63,6 +65,8 @@ VIEW_DIRECTION = (-1.0, -1.2, 1.6)
 FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
 FACE_AXIS = np.array([0, 0, 1, 1, 2, 2])
 FACE_SIGN = np.array([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0])
+#: The 15 pairs (i, j), i < j, of faces; column order of :func:`face_borders`.
+FACE_PAIRS = np.array([(i, j) for i in range(6) for j in range(i + 1, 6)])
 
 #: Default coordinate axis across which the stripes of each face are counted: the side
 #: faces have horizontal stripes (counted along z), top and bottom stripes run along x
@@ -129,10 +133,9 @@ class StripeMesh(NamedTuple):
     phase : (t, 3) ndarray
         Stripe coordinate φ (on the triangle's face) at the three corners of each
         triangle, interpolated as the split used it; all three lie in
-        ``[stripe, stripe + 1]`` up to rounding.  Next to a box edge φ may leave
-        ``[0, 2 n_stripes]`` by the interpolation error of the face border (the
-        face weights and φ are interpolated separately); such slivers take the
-        edge stripe (``stripe`` is clipped).
+        ``[stripe, stripe + 1]`` up to rounding, also next to the box edges
+        (the face borders are zero sets of the same homogeneous numerators as
+        φ, :func:`face_borders`).
     weights : (k, 6) ndarray
         The face weights ``w`` (:func:`box_weights`) at the vertices, interpolated likewise.
     """
@@ -255,6 +258,34 @@ def box_weights(box, X, R):
     d = np.where(FACE_SIGN > 0, box.hi[FACE_AXIS] - X[:, FACE_AXIS], X[:, FACE_AXIS] - box.lo[FACE_AXIS])
     den = FACE_SIGN * R[:, FACE_AXIS]
     return den / d, d
+
+
+def face_borders(box, X, R):
+    r"""The borders between box faces as zero sets of numerators: :math:`g_{ij} = d_i d_j (w_i - w_j)`.
+
+    With :math:`c_i = \mathbf R\cdot\mathbf n_i` and :math:`d_i` of
+    :func:`box_weights`, :math:`g_{ij} = c_i d_j - c_j d_i`: positive where the
+    ray meets the plane of face i before that of face j.  Unlike
+    :math:`w_i - w_j` it is a product of per-vertex quantities in the same
+    homogeneous form as the stripe numerators of :func:`stripe_phase`, and at
+    every vertex :math:`2n P_1 - P_0` of face i equals :math:`g_{ij}` for the
+    face j that closes face i's stripe range (``P_0 = g_{ij}`` for the face at
+    its start).  Interpolated linearly together, a region where face i wins
+    every :math:`g_{ij}` therefore has its stripe coordinate inside
+    :math:`[0, 2n]`: the face a cell reflects and its stripes agree up to the
+    box edges, also for a finite eye point.
+
+    Returns
+    -------
+    g : (k, 15) ndarray
+        Columns in the order of :data:`FACE_PAIRS`.
+    """
+    X = np.asarray(X, dtype=float)
+    R = np.asarray(R, dtype=float)
+    _, d = box_weights(box, X, R)
+    c = FACE_SIGN * R[:, FACE_AXIS]
+    i, j = FACE_PAIRS[:, 0], FACE_PAIRS[:, 1]
+    return c[:, i] * d[:, j] - c[:, j] * d[:, i]
 
 
 def stripe_phase(box, X, R):
@@ -397,23 +428,23 @@ def stripe_map(points, triangles, normals, box, E):
     w, _ = box_weights(box, X, R)
     P0, P1 = stripe_phase(box, X, R)
     # one matrix of per-vertex columns, all interpolated together when a triangle is split
-    cols = {"X": slice(0, 3), "N": slice(3, 6), "w": slice(6, 12), "P0": slice(12, 18), "P1": slice(18, 24)}
-    A = np.concatenate([X, N, w, P0, P1], axis=1)
+    cols = {"X": slice(0, 3), "N": slice(3, 6), "w": slice(6, 12), "P0": slice(12, 18), "P1": slice(18, 24),
+            "g": slice(24, 39)}
+    A = np.concatenate([X, N, w, P0, P1, face_borders(box, X, R)], axis=1)
     parent = np.arange(len(T))
 
-    # 1. face borders, only in triangles whose vertices leave the box through different faces
+    # 1. face borders (zero sets of g_ij, not of w_i - w_j: see face_borders), only in triangles whose
+    #    vertices leave the box through different faces
     vface = np.argmax(w, axis=1)
     mixed = np.any(vface[T] != vface[T[:, :1]], axis=1)
     if np.any(mixed):
-        for i in range(6):
-            for j in range(i + 1, 6):
-                W = A[:, cols["w"]]
-                cand = (W[T] > 0).any(axis=1)  # faces that can be hit somewhere in a triangle
-                f = W[:, i] - W[:, j]
-                A, T, par = split_triangles(A, T, f, mixed & cand[:, i] & cand[:, j])
-                parent, mixed = parent[par], mixed[par]
-    W = A[:, cols["w"]]
-    face = np.argmax(W[T].mean(axis=1), axis=1)
+        for pair, (i, j) in enumerate(FACE_PAIRS):
+            P1T = A[:, cols["P1"]][T]
+            cand = (P1T > 0).any(axis=1)  # faces that can be hit somewhere in a triangle
+            f = A[:, cols["g"]][:, pair]
+            A, T, par = split_triangles(A, T, f, mixed & cand[:, i] & cand[:, j])
+            parent, mixed = parent[par], mixed[par]
+    face = _winning_face(A[:, cols["g"]][T].mean(axis=1), A[:, cols["w"]][T].mean(axis=1))
 
     # 2. stripe borders inside each face's region
     for i in range(6):
@@ -423,7 +454,8 @@ def stripe_map(points, triangles, normals, box, E):
         phi = A[:, cols["P0"]][:, i] / np.where(A[:, cols["P1"]][:, i] > 0, A[:, cols["P1"]][:, i], np.nan)
         phiT = phi[T[sel]]
         kmin, kmax = np.nanmin(phiT), np.nanmax(phiT)
-        for kk in range(int(np.floor(kmin)) + 1, int(np.ceil(kmax))):
+        # borders 0 and 2n are the face's own borders with its neighbours (already split along, see face_borders)
+        for kk in range(max(int(np.floor(kmin)) + 1, 1), min(int(np.ceil(kmax)), 2 * box.n_stripes)):
             sel = face == i
             f = A[:, cols["P0"]][:, i] - kk * A[:, cols["P1"]][:, i]
             A, T, par = split_triangles(A, T, f, sel)
@@ -437,6 +469,16 @@ def stripe_map(points, triangles, normals, box, E):
     Nn = A[:, cols["N"]]
     Nn = Nn / np.linalg.norm(Nn, axis=1, keepdims=True)
     return StripeMesh(A[:, cols["X"]], Nn, T, face, stripe, parent, P0T / P1T, A[:, cols["w"]])
+
+
+def _winning_face(g, w):
+    """The face that wins every pairwise border ``g_ij`` (values at cell centroids); ties by the weights ``w``."""
+    wins = np.zeros((len(g), 6))
+    for pair, (i, j) in enumerate(FACE_PAIRS):
+        wins[:, i] += g[:, pair] > 0
+        wins[:, j] += g[:, pair] < 0
+    best = wins == wins.max(axis=1, keepdims=True)
+    return np.argmax(np.where(best, w, -np.inf), axis=1)
 
 
 def stripe_colors(box, face, stripe):

@@ -24,6 +24,7 @@ __all__ = [
     "patches_mesh",
     "surface_mesh",
     "color_curvature",
+    "color_cells",
     "WELD_RTOL",
 ]
 
@@ -147,8 +148,7 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_s
             else:
                 data[k] = _average(labels, n, v)
         first = {k: v[_first_of(labels, n)] for k, v in first.items()}
-    faces = np.hstack([np.full((len(quads), 1), 4), quads]).ravel()
-    mesh = pv.PolyData(flat_points, faces)
+    mesh = pv.PolyData(flat_points, _faces_without_collapsed_edges(quads))
     for k, v in {**data, **first}.items():
         mesh.point_data[k] = v
     if "N" in mesh.point_data:
@@ -162,6 +162,33 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_s
             N[missing] = fill / np.linalg.norm(fill, axis=1, keepdims=True)  # VTK's normals are float32
         mesh.point_data["N"] = N
     return mesh
+
+
+def _faces_without_collapsed_edges(quads):
+    """VTK face array of welded quads: a quad with a collapsed edge becomes a triangle, a collapsed quad is dropped.
+
+    Where an edge of the parameter square collapses to one point (the centre
+    of a surface of revolution, a sphere's pole) welding leaves quads such as
+    ``(c, c, a, b)``.  Passed on as quads they break VTK's edge traversal:
+    ``compute_normals`` (which PyVista runs for smooth shading) then "repairs"
+    the orientation of all cells but a strip, and the vertex normals along the
+    strip's borders average to about zero: dark streaks from the centre
+    outwards (Dill's sine wave of revolution).
+    """
+    quads = np.asarray(quads)
+    nxt = np.roll(quads, -1, axis=1)
+    keep = quads != nxt  # drop a vertex equal to its cyclic successor
+    counts = keep.sum(axis=1)
+    faces = []
+    whole = counts == 4
+    faces.append(np.hstack([np.full((whole.sum(), 1), 4), quads[whole]]).ravel())
+    tri = counts == 3
+    if np.any(tri):
+        t = quads[tri][keep[tri]].reshape(-1, 3)
+        distinct = (t[:, 0] != t[:, 1]) & (t[:, 1] != t[:, 2]) & (t[:, 0] != t[:, 2])
+        t = t[distinct]
+        faces.append(np.hstack([np.full((len(t), 1), 3), t]).ravel())
+    return np.concatenate(faces)
 
 
 def _first_of(labels, n=None):
@@ -255,6 +282,44 @@ def color_curvature(mesh, curvature_mode, color_map, **map_options):
     return mesh
 
 
+
+def color_cells(mesh, curvature_mode=None, color_map=None, **map_options):
+    """Dill's polygon colours: one colour per cell, from the mean of its vertices' values (returns a copy).
+
+    Dill (``seeds/000``, "Image generation"): "A set of values … is assigned to
+    each polygon by averaging the values at the vertices", and the polygon is
+    coloured by that value.  With ``curvature_mode`` and ``color_map`` the mean
+    of the cell's vertex curvature is coloured by the map (with
+    ``map_options``); without them (patches coloured by their own
+    ``visualize_curvature``) a cell gets the mean of its vertices' ``RGB``.
+    The result has cell data ``values`` (if coloured by a map) and ``RGB``
+    (uint8) and no point colours.
+    """
+    offsets = np.asarray(mesh.face_offsets)
+    conn = np.asarray(mesh.face_connectivity)
+    counts = np.diff(offsets)
+
+    def mean(values):
+        values = np.asarray(values, dtype=float)
+        return np.add.reduceat(values[conn], offsets[:-1], axis=0) / counts.reshape((-1,) + (1,) * (values.ndim - 1))
+
+    out = mesh.copy()
+    if curvature_mode is not None and color_map is not None:
+        curv = Curvature(*(np.asarray(mesh.point_data[k]) for k in ("K", "H", "k1", "k2", "degenerate")))
+        values = mean(curvature_values(curv, curvature_mode))
+        size = float(np.linalg.norm(np.ptp(mesh.points, axis=0)))
+        name = color_map.value if hasattr(color_map, "value") else color_map
+        rgb = colors_for(values, name, tol=zero_tolerance(CurvatureMode(curvature_mode), size), **map_options)
+        out.cell_data["values"] = values
+    elif "RGB" in mesh.point_data:
+        rgb = mean(mesh.point_data["RGB"]) / 255.0
+    else:
+        raise ValueError("color_cells needs a curvature mode and a colour map, or a mesh with RGB point colours")
+    for name in ("RGB", "values"):
+        if name in out.point_data:
+            del out.point_data[name]
+    out.cell_data["RGB"] = np.round(255 * np.clip(rgb, 0, 1)).astype(np.uint8)
+    return out
 
 
 def _faces(mesh):

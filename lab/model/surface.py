@@ -161,6 +161,12 @@ class BSplineSurface(Surface):
         ku, kv = (knots, self.knots_v) if axis == 0 else (self.knots_u, knots)
         return BSplineSurface(P, ku, kv, *self.degree, weights=w)
 
+    def swap_uv(self):
+        """The same surface with u and v exchanged: the orientation (and the sign of H) flips (practical 2.2)."""
+        w = None if self.weights is None else self.weights.T
+        return BSplineSurface(self.control_points.transpose(1, 0, 2), self.knots_v, self.knots_u,
+                              self.degree[1], self.degree[0], weights=w)
+
     def bezier_nets(self):
         """Bézier nets per knot span: see :func:`lab.bspline.to_bezier`."""
         return bspline.to_bezier(*self._args(), self.weights)

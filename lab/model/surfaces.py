@@ -43,15 +43,29 @@ def practical_height(x, y):
 
 
 def practical():
-    """The example surface of the practical (``curvature-visualization.py``, ``seeds/README.md``).
+    """The example surface of the practical, built exactly as its course program builds it.
 
-    Control points ``(x, y, f(x, y))`` for ``x, y`` in -5 … 4 (a 10 × 10 grid,
-    first index along u = x), bicubic, knot vector ``0,0,0,0,1,2,…,6,7,7,7,7``
-    in each direction, hence 7 × 7 Bézier patches.  The practical then refines
-    once and colours by Gaussian curvature with the linear map.
+    The course program (``curveature-visualization.py``, ``seeds/README.md``)
+    writes the control net as ``[[point(x, y, f(x, y)) for x in range(-5, 5)]
+    for y in range(-5, 5)]`` and its spline class takes the **outer** index of
+    that list along u.  So here, too, ``control_points[i, j] = (x_j, y_i,
+    f(x_j, y_i))``: **u runs along y and v along x** (a 10 × 10 grid, x, y in
+    -5 … 4), bicubic, knot vector ``0,0,0,0,1,2,…,6,7,7,7,7`` in each direction,
+    hence 7 × 7 Bézier patches.  The practical then refines once and colours by
+    Gaussian curvature with the linear map.
+
+    Orientation (practical 2.2): x depends on v only and y on u only (the
+    control points' x is ``x_j``, their y is ``y_i``), so ``b_u = (0, y_u, z_u)``,
+    ``b_v = (x_v, 0, z_v)`` with ``x_v, y_u > 0``, and ``b_u × b_v`` has the
+    z-component ``-x_v y_u < 0``: the unit normal ``N = b_u × b_v / |b_u × b_v|``
+    points **down**.  At the top of the bump, ``(u, v) = (4, 4)``:
+    ``N_z ≈ -0.89``, ``H ≈ +6.08``, ``κ1 ≈ +6.64``, ``κ2 ≈ +5.53`` – the cap
+    bends towards its (downward) normal, so its normal curvatures are
+    positive.  A net with x along u is the transposed one: N and H change
+    sign and κ1, κ2 become ``-κ2, -κ1``; K stays the same.
     """
     x = np.arange(-5.0, 5.0)
-    X, Y = np.meshgrid(x, x, indexing="ij")
+    X, Y = np.meshgrid(x, x, indexing="xy")  # X[i, j] = x_j, Y[i, j] = y_i: the outer index (u) runs along y
     P = np.stack([X, Y, practical_height(X, Y)], axis=-1)
     knots = np.concatenate([[0, 0, 0], np.arange(8), [7, 7, 7]]).astype(float)
     return BSplineSurface(P, knots, knots, 3, 3)

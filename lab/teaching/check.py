@@ -15,7 +15,7 @@ from .report import Case, Report
 from .runner import DEFAULT_TIMEOUT, run_task
 from .tasks import TASKS
 
-__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "run", "warmup", "curve_curvature", "fundamental_forms", "curvatures", "derivative_nets", "corner_derivatives", "h", "f1", "f2", "f3", "visualize_curvature", "focal_points", "reflect", "christoffel", "start_velocity"]
+__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "run", "warmup", "curve_curvature", "fundamental_forms", "curvatures", "derivative_nets", "corner_derivatives", "h", "f1", "f2", "f3", "visualize_curvature", "focal_points", "reflect", "christoffel", "start_velocity", "signed_area"]
 
 
 def run(task, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
@@ -51,3 +51,4 @@ focal_points = _check("focal_points")
 reflect = _check("reflect")
 christoffel = _check("christoffel")
 start_velocity = _check("start_velocity")
+signed_area = _check("signed_area")

@@ -24,7 +24,9 @@ def configure_offscreen():
 def plot_mesh(mesh, plotter, *, show_edges=False, scalars=None, cmap="viridis", **kwargs):
     """Add a curvature mesh to ``plotter``: its ``RGB`` colours if present, else ``scalars`` with ``cmap``."""
     if scalars is None and "RGB" in mesh.cell_data:  # e.g. stripe mappings: one colour per facet
-        return plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges, **kwargs)
+        lit = "lit" in mesh.field_data  # colours that already contain their shading (the paper's colour plate 1)
+        return plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges,
+                                **({"lighting": False} if lit else {}), **kwargs)
     if scalars is None and "RGB" in mesh.point_data:
         return plotter.add_mesh(mesh, scalars="RGB", rgb=True, show_edges=show_edges, smooth_shading=True, **kwargs)
     return plotter.add_mesh(mesh, scalars=scalars, cmap=cmap, show_edges=show_edges, smooth_shading=True, **kwargs)
@@ -84,8 +86,22 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
     raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
 
 
+def _add_flat(plotter, mesh, curvature, color_map, map_options, edges):
+    """Dill's drawing (``seeds/000``): one colour per polygon (:func:`lab.mesh.color_cells`), one light at the eye."""
+    from .. import mesh as _mesh
+
+    if curvature is not None and color_map is not None:
+        mesh = _mesh.color_cells(mesh, curvature, color_map, **(map_options or {}))
+    elif "RGB" in mesh.point_data:
+        mesh = _mesh.color_cells(mesh)
+    plotter.remove_all_lights()
+    plotter.add_light(pv.Light(light_type="headlight"))
+    colors = {"scalars": "RGB", "rgb": True, "preference": "cell"} if "RGB" in mesh.cell_data else {"color": "#d9d9d9"}
+    plotter.add_mesh(mesh, show_edges=edges, ambient=0.3, diffuse=0.7, smooth_shading=False, **colors)
+
+
 def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=False, net=False, title=None,
-         resolution=1, n=64, direction=VIEW_DIRECTION, map_options=None):
+         resolution=1, n=64, direction=VIEW_DIRECTION, map_options=None, shading="smooth"):
     """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
 
     Parameters
@@ -101,14 +117,23 @@ def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=F
         Draw the control nets of patches.
     map_options : dict, optional
         Options of the colour map, e.g. ``{"vmin": -1, "vmax": 0.5}`` for Dill's bands.
+    shading : {"smooth", "flat"}
+        ``"flat"`` draws as Dill did (``seeds/000``, "Image generation"): every
+        polygon in one colour, that of the mean of its vertices' values, and one
+        uniform shade from a single light at the eye (ambient plus Lambert), so
+        band edges follow the polygons as in his figures.
     """
     from IPython.display import Image
 
+    if shading not in ("smooth", "flat"):
+        raise ValueError(f"shading must be 'smooth' or 'flat'; got {shading!r}")
     configure_offscreen()
     mesh = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     plotter.set_background("white")
-    if "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
+    if shading == "flat":
+        _add_flat(plotter, mesh, curvature, color_map, map_options, edges)
+    elif "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
         plot_mesh(mesh, plotter, show_edges=edges)
     else:
         plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True)

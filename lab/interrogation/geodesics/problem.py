@@ -44,23 +44,26 @@ def _dot(a, b):
 def christoffel(d):
     r"""Christoffel symbols of the second kind from exact first and second derivatives.
 
-    With :math:`E_u = 2\,\mathbf x_u\cdot\mathbf x_{uu}`,
+    ``seeds/003`` (after eq. 11) calls them "first kind Christoffel symbols";
+    the :math:`\Gamma^k_{ij}` of eq. 11 are those of the **second** kind (the
+    first kind, :math:`\Gamma_{ijk} = \mathbf x_{ij}\cdot\mathbf x_k`, has all
+    indices down).  With :math:`E_u = 2\,\mathbf x_u\cdot\mathbf x_{uu}`,
     :math:`E_v = 2\,\mathbf x_u\cdot\mathbf x_{uv}`,
     :math:`F_u = \mathbf x_{uu}\cdot\mathbf x_v + \mathbf x_u\cdot\mathbf x_{uv}`,
     :math:`F_v = \mathbf x_{uv}\cdot\mathbf x_v + \mathbf x_u\cdot\mathbf x_{vv}`,
     :math:`G_u = 2\,\mathbf x_v\cdot\mathbf x_{uv}`,
-    :math:`G_v = 2\,\mathbf x_v\cdot\mathbf x_{vv}` and
-    :math:`\Delta = 2(EG - F^2)` (Struik, *Lectures on Classical Differential
+    :math:`G_v = 2\,\mathbf x_v\cdot\mathbf x_{vv}` and the denominator
+    :math:`2\det\mathbf G = 2(EG - F^2)` (Struik, *Lectures on Classical Differential
     Geometry*, chapter 4, the reference [18] that ``seeds/003`` gives for eq. 11):
 
     .. math::
 
-        \Gamma^1_{11} &= (G E_u - 2F F_u + F E_v)/\Delta, &
-        \Gamma^2_{11} &= (2E F_u - E E_v - F E_u)/\Delta,\\
-        \Gamma^1_{12} &= (G E_v - F G_u)/\Delta, &
-        \Gamma^2_{12} &= (E G_u - F E_v)/\Delta,\\
-        \Gamma^1_{22} &= (2G F_v - G G_u - F G_v)/\Delta, &
-        \Gamma^2_{22} &= (E G_v - 2F F_v + F G_u)/\Delta.
+        \Gamma^1_{11} &= (G E_u - 2F F_u + F E_v)/(2\det\mathbf G), &
+        \Gamma^2_{11} &= (2E F_u - E E_v - F E_u)/(2\det\mathbf G),\\
+        \Gamma^1_{12} &= (G E_v - F G_u)/(2\det\mathbf G), &
+        \Gamma^2_{12} &= (E G_u - F E_v)/(2\det\mathbf G),\\
+        \Gamma^1_{22} &= (2G F_v - G G_u - F G_v)/(2\det\mathbf G), &
+        \Gamma^2_{22} &= (E G_v - 2F F_v + F G_u)/(2\det\mathbf G).
 
     Parameters
     ----------

@@ -179,6 +179,20 @@ class Triangulation(NamedTuple):
     uv: np.ndarray
     triangles: np.ndarray
 
+    @property
+    def areas(self):
+        """(t,) ndarray: the triangles' areas in ``(u, v)`` (positive: counter-clockwise)."""
+        a, b, c = (self.uv[self.triangles[:, k]] for k in range(3))
+        return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+    @property
+    def angles(self):
+        """(t, 3) ndarray: the triangles' angles in degrees at their three corners, in ``(u, v)``."""
+        P = self.uv[self.triangles]
+        e1, e2 = np.roll(P, -1, axis=1) - P, np.roll(P, -2, axis=1) - P
+        cos = np.einsum("tij,tij->ti", e1, e2) / (np.linalg.norm(e1, axis=2) * np.linalg.norm(e2, axis=2))
+        return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
 
 def _iso_lines(domain, n_u, n_v):
     (u0, u1), (v0, v1) = domain

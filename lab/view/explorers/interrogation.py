@@ -166,15 +166,23 @@ class GeodesicExplorer(Explorer):
         Start point (u0, v0); default: the domain's centre.
     n_angles : int
     step : float, optional
-        Isodistance step s_L; default: a tenth of the surface's size.
-    count : int
-        Number of isodistance curves; the paths have length ``step * count``.
+        Isodistance step s_L; default: a fifth of the surface's size divided by ``n_curves``.
+    n_curves : int
+        Number of isodistance curves (s_L = step, 2 step, …); the paths have
+        length ``step * n_curves``.  The number of paths is ``n_angles``.
+    count : int, optional
+        Deprecated name of ``n_curves``.
     """
 
     title = "geodesic explorer"
     KINDS = {"geodesics": "geodesic", "normal sections": "normal-section"}
 
-    def __init__(self, surface, start=None, *, n_angles=40, step=None, count=8, window_size=(640, 420), live=None):
+    def __init__(self, surface, start=None, *, n_angles=40, step=None, n_curves=8, window_size=(640, 420), live=None,
+                 count=None):
+        if count is not None:
+            warnings.warn("GeodesicExplorer(count=…) is deprecated: the number of isodistance curves is now "
+                          "n_curves=… (the number of paths is n_angles)", DeprecationWarning, stacklevel=2)
+            n_curves = count
         super().__init__(window_size=window_size, live=live)
         self.source = surface
         (u0, u1), (v0, v1) = surface.domain
@@ -185,7 +193,7 @@ class GeodesicExplorer(Explorer):
             self.surface_mesh = _mesh.surface_mesh(surface, 64, 64)
         size = float(np.linalg.norm(np.ptp(self.surface_mesh.points, axis=0)))
         if step is None:
-            step = float(f"{size / (5 * count):.2g}")
+            step = float(f"{size / (5 * n_curves):.2g}")
         style = {"description_width": "90px"}
         lay = W.Layout(width="300px")
         self.kind = _dropdown(list(self.KINDS.items()), "geodesic", "paths")
@@ -200,7 +208,7 @@ class GeodesicExplorer(Explorer):
                                               style=style, layout=lay, continuous_update=False)
         self.step = W.BoundedFloatText(value=step, min=size * 1e-4, max=size * 10, step=step / 10,
                                        description="step s_L", style=style, layout=lay)
-        self.count = W.IntSlider(value=count, min=1, max=40, description="curves", style=style, layout=lay,
+        self.count = W.IntSlider(value=n_curves, min=1, max=40, description="curves", style=style, layout=lay,
                                  continuous_update=False)
         self.domain_view = W.Image(format="png", layout=W.Layout(width=f"{window_size[0]}px"))
         self._build_scene()
