@@ -26,6 +26,7 @@ __all__ = [
     "domain",
     "find_span",
     "basis_derivatives",
+    "basis_rows",
     "derivatives",
     "evaluate",
     "insert_knot",
@@ -75,13 +76,13 @@ def find_span(knots, degree, t):
     Vectorised; the right end of the domain belongs to the last non-empty span.
     """
     n_points = len(knots) - degree - 1
-    lo, hi = domain(knots, degree)
-    t = np.clip(np.asarray(t, dtype=float), lo, hi)
-    k = np.searchsorted(knots, t, side="right") - 1
+    _, hi = domain(knots, degree)
+    k = np.searchsorted(knots, t, side="right")
+    k -= 1
     # At t == hi the search lands after the end of the domain; step back to the
-    # last non-empty span.
+    # last non-empty span.  Parameters outside the domain get the first or last span.
     last = np.searchsorted(knots, hi, side="left") - 1
-    return np.clip(k, degree, min(n_points - 1, last))
+    return np.clip(k, degree, min(n_points - 1, last), out=k if np.ndim(k) else None)
 
 
 def basis_derivatives(knots, degree, span, t, n_derivatives):
@@ -149,6 +150,64 @@ def basis_derivatives(knots, degree, span, t, n_derivatives):
         ders[kk] *= factor
         factor *= p - kk
     return np.moveaxis(ders, -1, 0)
+
+
+def basis_rows(knots, degree, span, t):
+    r"""The non-zero basis functions and their first two derivatives, points last: the fast path of A2.3.
+
+    The values come from the Cox–de Boor triangle (The NURBS Book, A2.2) run
+    on whole arrays of parameters; the derivatives from the values of degree
+    ``p - 1`` and ``p - 2`` (The NURBS Book, eq. 2.9)
+
+    .. math:: N'_{i,p} = \frac{p}{t_{i+p} - t_i} N_{i,p-1} - \frac{p}{t_{i+p+1} - t_{i+1}} N_{i+1,p-1},
+
+    applied once for the first and twice (to degree ``p - 1``, then ``p``) for
+    the second derivative.  Every denominator is a difference of knots that
+    spans the point's non-empty knot span, so none vanishes.  Equal to
+    :func:`basis_derivatives` with ``n_derivatives=2`` (which stays the
+    reference) up to rounding, with a third of its array operations.
+
+    Parameters
+    ----------
+    knots : (n + p + 1,) ndarray
+    degree : int
+    span : (k,) int ndarray
+        Spans from :func:`find_span`.
+    t : (k,) ndarray
+        Parameters.
+
+    Returns
+    -------
+    ndarray, shape ``(3, degree + 1, k)``
+        ``out[r, i]`` is the r-th derivative of ``N_{span-p+i, p}`` at every point.
+    """
+    p = degree
+    t = np.asarray(t, dtype=float)
+    left = [None] + [t - knots[span + 1 - j] for j in range(1, p + 1)]
+    right = [None] + [knots[span + j] - t for j in range(1, p + 1)]
+    out = np.zeros((3, p + 1) + t.shape)
+    levels = [[np.ones_like(t)]]  # levels[j][r] = N_{span-j+r, j}
+    for j in range(1, p + 1):
+        prev, cur, saved = levels[-1], [], 0.0
+        for r in range(j):
+            temp = prev[r] / (right[r + 1] + left[j - r])
+            cur.append(saved + right[r + 1] * temp)
+            saved = left[j - r] * temp
+        cur.append(saved)
+        levels.append(cur)
+    out[0] = levels[p]
+
+    def differentiate(values, deg):
+        """Derivatives of the degree-``deg`` functions from ``values`` of degree ``deg - 1`` (eq. 2.9)."""
+        # a_i = deg / (t_{span+i} - t_{span-deg+i}), i = 1 .. deg, in terms of left/right
+        terms = [deg * values[i - 1] / (right[i] + left[deg + 1 - i]) for i in range(1, deg + 1)]
+        return [-terms[0]] + [terms[i - 1] - terms[i] for i in range(1, deg)] + [terms[-1]]
+
+    if p >= 1:
+        out[1] = differentiate(levels[p - 1], p)
+    if p >= 2:
+        out[2] = differentiate(differentiate(levels[p - 2], p - 1), p)
+    return out
 
 
 def _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights):

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..geometry import bezier, bspline
 from ..geometry import curvature as _curv
+from ..geometry import tensor as _tensor
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
 from .patches import BezierPatches
@@ -19,7 +20,16 @@ __all__ = ["Surface", "BezierSurface", "BSplineSurface", "ParametricSurface"]
 
 
 class Surface:
-    """Base class: everything follows from :meth:`derivatives` and :attr:`domain`."""
+    """Base class: everything follows from :meth:`derivatives` and :attr:`domain`.
+
+    Evaluation runs in chunks of :data:`lab.tensor.CHUNK` points (see
+    :mod:`lab.tensor`), so the temporary memory of :meth:`curvature`,
+    :meth:`derivatives` and :meth:`evaluate` is bounded by the chunk size.
+    When ``u`` and ``v`` form a grid (``np.meshgrid`` with either indexing,
+    or an open grid such as ``u[:, None], v[None, :]``) the separable path of
+    :meth:`curvature_grid` is taken by itself; spline surfaces evaluate their
+    basis functions there once per u and once per v.
+    """
 
     #: ((u_min, u_max), (v_min, v_max))
     domain = ((0.0, 1.0), (0.0, 1.0))
@@ -27,22 +37,90 @@ class Surface:
     #: so that paths on it may wrap around (torus, sphere in u, cylinder in u).
     periodic = (False, False)
 
+    #: Bytes per point that curvature, derivatives and meshes plan for (results and parameter copies).
+    BYTES_PER_POINT = {"curvature": 80, "derivatives": 200}
+
     def _derivatives(self, u, v):  # pragma: no cover - abstract
+        """Derivatives at checked parameters of any (equal) shape."""
         raise NotImplementedError
+
+    def _point_derivatives(self, u, v, work=None):
+        """Derivatives at the flat parameters of one chunk, fields ``(k, 3)`` (spline surfaces override it)."""
+        return self._derivatives(u, v)
+
+    def _grid_blocks(self, u, v):
+        """Blocks ``(rows, cols, Derivatives)`` of the grid ``u`` × ``v`` (spline surfaces override it)."""
+        return _tensor.point_blocks(self._point_derivatives, u, v)
+
+    def sample(self, func, u, v, *, grid=None, memory_limit=None, bytes_per_point=None):
+        """Apply ``func`` to the derivatives at ``(u, v)`` chunk by chunk and assemble its outputs.
+
+        Parameters
+        ----------
+        func : callable
+            ``func(D)`` gets a :class:`~lab.derivatives.Derivatives` of one chunk
+            (fields ``batch + (3,)``) and returns a tuple of arrays of shape ``batch + (...)``.
+        u, v : array_like
+            Parameters, broadcast against each other; or, with ``grid=True``,
+            the two 1-D sides of a grid.
+        grid : bool, optional
+            True: ``u`` and ``v`` are the sides of a grid and the outputs have
+            shape ``(len(u), len(v), ...)``.  None (default): detect a grid in
+            broadcast 2-D parameters (see the class docstring).
+        memory_limit : int or str, optional
+            Refuse (``ValueError``) when the estimated memory exceeds it (default: :func:`lab.memory_limit`).
+        bytes_per_point : int, optional
+            The estimate per point (default: that of :meth:`derivatives`).
+
+        Returns
+        -------
+        u, v : ndarray
+            The checked parameters, broadcastable to the output shape.
+        outputs : list of ndarray
+        """
+        per_point = self.BYTES_PER_POINT["derivatives"] if bytes_per_point is None else bytes_per_point
+        if grid is None:
+            found = _tensor.as_grid(u, v)
+            if found is not None:
+                uu, vv, transposed = found
+                u_out, v_out, outputs = self.sample(func, uu, vv, grid=True, memory_limit=memory_limit,
+                                                    bytes_per_point=bytes_per_point)
+                if transposed:
+                    return v_out.T, u_out.T, [np.swapaxes(o, 0, 1) for o in outputs]
+                return u_out, v_out, outputs
+        if grid:
+            (lo_u, lo_v) = self.domain
+            u = _v.as_parameter_vector(u, lo_u, "u")
+            v = _v.as_parameter_vector(v, lo_v, "v")
+            n = u.size * v.size
+            _v.check_memory(n * per_point, f"evaluating the surface on a {u.size} x {v.size} grid", memory_limit)
+            if n:
+                outputs = _tensor.map_grid(self._grid_blocks(u, v), func, (u.size, v.size))
+                return u[:, None], v[None, :], outputs
+            u, v = np.broadcast_arrays(u[:, None], v[None, :])
+        else:
+            u, v = _v.as_parameters(u, v, self.domain)
+            _v.check_memory(u.size * per_point, f"evaluating the surface at {u.size} points", memory_limit)
+        return u, v, self._map_points(func, u, v)
+
+    def _map_points(self, func, u, v):
+        """``func`` applied chunk by chunk to the derivatives at the checked points ``u``, ``v`` (equal shapes)."""
+        return _tensor.map_points(self._point_derivatives, func, u, v)
 
     def derivatives(self, u, v):
         """Point and partial derivatives ``b, bu, bv, buu, buv, bvv`` (shape ``broadcast(u, v).shape + (3,)``)."""
-        u, v = _v.as_parameters(u, v, self.domain)
-        return self._derivatives(u, v)
+        _, _, fields = self.sample(tuple, u, v)
+        return Derivatives(*fields)
 
     def evaluate(self, u, v):
         """Surface points, shape ``broadcast(u, v).shape + (3,)``."""
-        return self.derivatives(u, v).b
+        _, _, (b,) = self.sample(lambda d: (d.b,), u, v, bytes_per_point=60)
+        return b
 
     def normal(self, u, v):
         """Unit normal ``b_u x b_v / |b_u x b_v|`` (NaN at degenerate points)."""
-        d = self.derivatives(u, v)
-        return _curv.unit_normal(d.bu, d.bv)[0]
+        _, _, (N,) = self.sample(lambda d: (_curv.unit_normal(d.bu, d.bv)[0],), u, v, bytes_per_point=60)
+        return N
 
     def fundamental_forms(self, u, v):
         """First and second fundamental forms, see :func:`lab.curvature.fundamental_forms`."""
@@ -54,31 +132,75 @@ class Surface:
         (u0, u1), (v0, v1) = self.domain
         return 0.5 * (u0 + u1), 0.5 * (v0 + v1)
 
-    def curvature(self, u, v):
+    def curvature(self, u, v, *, memory_limit=None):
         """Gaussian, mean and principal curvatures (see :mod:`lab.curvature`).
 
         At degenerate points (``b_u x b_v = 0``) the values are the limits
         approached from inside the domain, the ``degenerate`` mask is set and a
-        :class:`~lab.curvature.DegeneratePointWarning` is issued.
+        :class:`~lab.curvature.DegeneratePointWarning` is issued.  Grids take
+        the separable path of :meth:`curvature_grid` (see the class docstring).
 
         Returns
         -------
         Curvature
             Fields ``K, H, k1, k2, degenerate`` of shape ``broadcast(u, v).shape``.
         """
-        u, v = _v.as_parameters(u, v, self.domain)
-        curv = _curv.from_derivatives(self._derivatives(u, v))
+        return self._curvature(u, v, None, memory_limit)
+
+    def curvature_grid(self, u, v, *, memory_limit=None):
+        """Curvature on the grid ``u`` × ``v`` (1-D arrays): fields of shape ``(len(u), len(v))``.
+
+        The same values as ``curvature(*np.meshgrid(u, v, indexing="ij"))``;
+        spline surfaces evaluate their basis functions once per u and once per v
+        and gather the control points once per pair of knot spans.
+        """
+        return self._curvature(u, v, True, memory_limit)
+
+    def _curvature(self, u, v, grid, memory_limit):
+        u, v, fields = self.sample(_curv.from_derivatives, u, v, grid=grid, memory_limit=memory_limit,
+                                   bytes_per_point=self.BYTES_PER_POINT["curvature"])
+        curv = _curv.Curvature(*fields)
         return _curv.with_limits(curv, u, v, self.centre, lambda index, uu, vv: self._derivatives(uu, vv))
 
-    def grid(self, nu, nv):
+    def grid(self, nu, nv, *, memory_limit=None):
         """Parameter grid ``(u, v)`` of shape ``(nu, nv)`` covering the domain, ends included."""
         nu = _v.as_positive_int(nu, "nu", minimum=2)
         nv = _v.as_positive_int(nv, "nv", minimum=2)
+        _v.check_memory(16 * nu * nv, f"a {nu} x {nv} parameter grid", memory_limit)
         (u0, u1), (v0, v1) = self.domain
         return np.meshgrid(np.linspace(u0, u1, nu), np.linspace(v0, v1, nv), indexing="ij")
 
 
-class BezierSurface(Surface):
+class _SplineSurface(Surface):
+    """Shared evaluation of Bézier and B-spline surfaces: the chunked tensor-product paths of :mod:`lab.tensor`."""
+
+    def _spline_args(self):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _spline(self):
+        """The :class:`lab.tensor.Spline` of this surface, built once (surfaces are values: build a new one to change it)."""
+        args = self._spline_args()
+        key = tuple(id(a) for a in args)
+        cached = self.__dict__.get("_spline_cache")
+        if cached is None or cached[0] != key:
+            cached = (key, args, _tensor.spline(*args))  # keeping args keeps their ids unique
+            self._spline_cache = cached
+        return cached[2]
+
+    def _point_derivatives(self, u, v, work=None):
+        return _tensor.point_derivatives(self._spline(), u, v, work)
+
+    def _grid_blocks(self, u, v):
+        return _tensor.grid_blocks(self._spline(), u, v)
+
+    def _map_points(self, func, u, v):
+        return _tensor.map_spline_points(self._spline(), func, u, v)
+
+    def _derivatives(self, u, v):
+        return Derivatives(*_tensor.map_points(self._point_derivatives, tuple, u, v))
+
+
+class BezierSurface(_SplineSurface):
     r"""A tensor-product (rational) Bézier patch over ``[0, 1]^2``.
 
     Parameters
@@ -98,8 +220,11 @@ class BezierSurface(Surface):
         """Degrees ``(m, n)`` in u and v."""
         return self.control_points.shape[0] - 1, self.control_points.shape[1] - 1
 
-    def _derivatives(self, u, v):
-        return bezier.derivatives(self.control_points, u, v, self.weights)
+    def _spline_args(self):
+        m, n = self.degree
+        if getattr(self, "_bezier_knots", (None,))[0] != (m, n):  # a Bézier patch is a spline with one span
+            self._bezier_knots = ((m, n), np.repeat([0.0, 1.0], m + 1), np.repeat([0.0, 1.0], n + 1))
+        return self.control_points, self._bezier_knots[1], self._bezier_knots[2], m, n, self.weights
 
     def swap_uv(self):
         """The same patch with u and v exchanged: the orientation (and the sign of H) flips (practical 2.2)."""
@@ -116,7 +241,7 @@ class BezierSurface(Surface):
         return f"BezierSurface({kind}degree {self.degree})"
 
 
-class BSplineSurface(Surface):
+class BSplineSurface(_SplineSurface):
     """A tensor-product B-spline or NURBS surface.
 
     Parameters
@@ -146,8 +271,8 @@ class BSplineSurface(Surface):
     def _args(self):
         return (self.control_points, self.knots_u, self.knots_v, *self.degree)
 
-    def _derivatives(self, u, v):
-        return bspline.derivatives(*self._args(), u, v, self.weights)
+    def _spline_args(self):
+        return (*self._args(), self.weights)
 
     def insert_knot(self, t, direction="u", times=1):
         """A new surface with the knot ``t`` inserted ``times`` times in ``direction`` ('u' or 'v')."""
