@@ -13,6 +13,7 @@ forward differences; The NURBS Book (Piegl & Tiller), A1.5 (de Casteljau) and
 A4.4 / eq. 4.20 (rational derivatives).
 """
 
+import functools
 import math
 
 import numpy as np
@@ -213,6 +214,7 @@ def derivatives(P, u, v, weights=None, paired=False):
     return D if weights is None else from_homogeneous(D)
 
 
+@functools.lru_cache(maxsize=None)
 def _corner_stencil(degree, order):
     """Indices and weights of the r-th forward difference at both ends of a degree-m polygon.
 
@@ -319,14 +321,13 @@ def split(P, t=0.5, axis=-3):
     left, right : ndarray
         Nets of the same shape as ``P`` for ``[0, t]`` and ``[t, 1]``.
     """
-    Q = np.moveaxis(np.asarray(P, dtype=float), axis, 0)
-    left, right = [Q[0]], [Q[-1]]
-    while Q.shape[0] > 1:
+    Q = np.ascontiguousarray(np.moveaxis(np.asarray(P, dtype=float), axis, 0))  # contiguous rows: fast arithmetic
+    n = Q.shape[0]
+    left, right = np.empty_like(Q), np.empty_like(Q)
+    left[0], right[n - 1] = Q[0], Q[n - 1]
+    for level in range(1, n):
         Q = (1.0 - t) * Q[:-1] + t * Q[1:]
-        left.append(Q[0])
-        right.append(Q[-1])
-    left = np.stack(left, axis=0)
-    right = np.stack(right[::-1], axis=0)
+        left[level], right[n - 1 - level] = Q[0], Q[-1]
     return np.moveaxis(left, 0, axis), np.moveaxis(right, 0, axis)
 
 

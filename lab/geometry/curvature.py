@@ -55,6 +55,7 @@ __all__ = [
     "fill_degenerate",
     "with_limits",
     "CurvatureMode",
+    "as_mode",
     "curvature_values",
     "zero_tolerance",
 ]
@@ -377,9 +378,14 @@ class CurvatureMode(str, enum.Enum):
     STRAIN_ENERGY = "strain-energy"  #: κ1² + κ2²
 
 
+def as_mode(mode):
+    """``mode`` as a :class:`CurvatureMode`; a ``ValueError`` naming the plain choices (``'gaussian'``, ...) otherwise."""
+    return CurvatureMode(_v.as_choice(mode, list(CurvatureMode), "curvature mode"))
+
+
 def curvature_values(curv, mode):
     """The values of ``curv`` (a :class:`lab.curvature.Curvature`) for a :class:`CurvatureMode`."""
-    mode = CurvatureMode(_v.as_choice(mode, list(CurvatureMode), "curvature mode"))
+    mode = as_mode(mode)
     if mode is CurvatureMode.STRAIN_ENERGY:
         return curv.strain_energy
     return {"gaussian": curv.K, "mean": curv.H, "k1": curv.k1, "k2": curv.k2}[mode.value]

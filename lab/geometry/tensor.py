@@ -97,7 +97,8 @@ def point_derivatives(s, u, v, work=None):
 
     Per point: the basis rows, the ``(p+1)(q+1)`` control points of its pair
     of knot spans (one ``np.take`` for the chunk) and two contractions, over
-    ``i`` and then over ``j`` (``einsum`` on arrays with the points last).
+    ``i`` and then over ``j`` (products summed in a fixed order on arrays with
+    the points last, so a point's value does not depend on the other points).
     The fields are views of arrays with the points last (coordinate ``c`` of
     all points is contiguous), which the curvature formulas read fastest.
     ``work`` (a dict, kept by the caller from chunk to chunk) holds the large
@@ -114,8 +115,18 @@ def point_derivatives(s, u, v, work=None):
     offsets = (np.arange(p + 1)[:, None] * nv + np.arange(q + 1)[None, :])[..., None]
     index = offsets + ((su - p) * nv + (sv - q))  # (p+1, q+1, k): flat index of P_ij of each point's span
     C = np.take(s.flat, index, axis=1, out=_buffer(work, "C", (d, p + 1, q + 1, k)), mode="clip")
-    T = np.einsum("aik,cijk->acjk", Bu, C, out=_buffer(work, "T", (3, d, q + 1, k)))  # over i
-    X = np.einsum("bjk,acjk->abck", Bv, T, out=_buffer(work, "X9", (3, 3, d, k)))  # over j
+    # Elementwise products summed in a fixed order, so that a point's value does not depend on
+    # how many points share its chunk (einsum and BLAS may reorder sums with the array sizes).
+    T = _buffer(work, "T", (3, d, q + 1, k))  # over i: T[du, c, j] = sum_i N_i^(du)(u) P_ij,c
+    tmp = _buffer(work, "tmp", (3, d, q + 1, k))
+    np.multiply(Bu[:, None, 0, None, :], C[None, :, 0], out=T)
+    for i in range(1, p + 1):
+        T += np.multiply(Bu[:, None, i, None, :], C[None, :, i], out=tmp)
+    X = _buffer(work, "X9", (3, 3, d, k))  # over j: X[du, dv, c] = sum_j N_j^(dv)(v) T[du, c, j]
+    tmp = _buffer(work, "tmp9", (3, 3, d, k))
+    np.multiply(Bv[None, :, None, 0, :], T[:, None, :, 0], out=X)
+    for j in range(1, q + 1):
+        X += np.multiply(Bv[None, :, None, j, :], T[:, None, :, j], out=tmp)
     return _fields(X.transpose(0, 1, 3, 2), s.rational)
 
 

@@ -16,6 +16,7 @@ from ..geometry import validation as _v
 from ..geometry.colormaps import ColorMap, colors_for
 from ..geometry.curvature import CurvatureMode, curvature_values, zero_tolerance
 from ..geometry.derivatives import Derivatives, from_homogeneous
+from ..geometry.grids import NO_SEAMS, Seams
 
 __all__ = ["BezierPatches", "BezierPatch", "CurvatureMode", "ColorMap", "CORNER_U", "CORNER_V"]
 
@@ -24,10 +25,43 @@ CORNER_U = np.array([[0.0, 0.0], [1.0, 1.0]])
 CORNER_V = np.array([[0.0, 1.0], [0.0, 1.0]])
 
 
-def _grid_order(children, rows, cols):
-    """Reorder (rows*cols, 2, 2, ...) children into the row-major order of the (2 rows, 2 cols) grid."""
-    c = children.reshape((rows, cols, 2, 2) + children.shape[3:])
-    return np.swapaxes(c, 1, 2).reshape((4 * rows * cols,) + children.shape[3:])
+#: Patches per chunk of refine and visualize_curvature (their corners fill one chunk of lab.tensor).
+PATCH_CHUNK = 512
+#: Bytes per patch of the stored corner curvature (4 floats) and colours (12 floats).
+PATCH_RESULT_BYTES = 16 * 8
+
+
+def _refine_once(P, w, grid):
+    """One level of :meth:`BezierPatches.refine`: nets ``(4N, ...)`` (and weights), in grid order if ``grid``.
+
+    The children of :data:`PATCH_CHUNK` patches at a time are computed
+    (:func:`lab.bezier.subdivide`) and written into the new arrays; with a
+    grid ``(rows, cols)``, child ``(a, b)`` of patch ``(i, j)`` goes to ``(2i + a, 2j + b)``.
+    """
+    n = len(P)
+    new_P = np.empty((4 * n,) + P.shape[1:])
+    new_w = None if w is None else np.empty((4 * n,) + w.shape[1:])
+    if grid is None:
+        step = PATCH_CHUNK
+    else:
+        rows, cols = grid
+        step = max(1, PATCH_CHUNK // cols) * cols  # whole rows of patches
+    for start in range(0, n, step):
+        sl = slice(start, min(start + step, n))
+        children, cw = bezier.subdivide(P[sl], 0.5, 0.5, None if w is None else w[sl])  # (k, 2, 2, ...)
+        if grid is None:
+            new_P.reshape((n, 2, 2) + P.shape[1:])[sl] = children
+            if w is not None:
+                new_w.reshape((n, 2, 2) + w.shape[1:])[sl] = cw
+            continue
+        r0, r1 = sl.start // cols, sl.stop // cols
+        for target, src, tail in ((new_P, children, P.shape[1:]), (new_w, cw, None if w is None else w.shape[1:])):
+            if target is None:
+                continue
+            grid_view = target.reshape((rows, 2, cols, 2) + tail)  # [i, a, j, b]
+            order = (0, 2, 1, 3) + tuple(range(4, 4 + len(tail)))  # [i, j, a, b] -> [i, a, j, b]
+            grid_view[r0:r1] = src.reshape((r1 - r0, cols, 2, 2) + tail).transpose(order)
+    return new_P, new_w, None if grid is None else (2 * grid[0], 2 * grid[1])
 
 
 class BezierPatch:
@@ -104,6 +138,11 @@ class BezierPatches:
         The nets, first index along u.  A single net ``(m+1, n+1, 3)`` is one patch.
     weights : (N, m+1, n+1) array_like, optional
         Weights of rational patches.
+    grid_shape : (rows, columns), optional
+        See :attr:`grid_shape`.
+    seams : lab.grids.Seams, optional
+        Where the tiled rectangle closes on itself or collapses (a torus, a
+        sphere's poles); see :attr:`seams`.
 
     Attributes
     ----------
@@ -122,7 +161,7 @@ class BezierPatches:
     COLOR_MAP_CUT = ColorMap.CUT
     COLOR_MAP_CLASSIFICATION = ColorMap.CLASSIFICATION
 
-    def __init__(self, control_points, weights=None, grid_shape=None):
+    def __init__(self, control_points, weights=None, grid_shape=None, seams=None):
         P = _v.as_control_net(control_points, "control points", batch=True)
         if P.ndim == 3:  # a single net is one patch
             P = P[None]
@@ -138,6 +177,9 @@ class BezierPatches:
                 raise ValueError(f"grid_shape must be (rows, columns) with rows * columns = {len(P)} patches; "
                                  f"got {grid_shape}")
         self._grid = grid_shape
+        if seams is not None and grid_shape is None:
+            raise ValueError("seams describe the edges of a grid of patches: give grid_shape too")
+        self._seams = NO_SEAMS if seams is None else Seams(*seams)
         self._reset()
 
     @property
@@ -149,6 +191,12 @@ class BezierPatches:
         meshes use it to weld shared corners by index.
         """
         return self._grid
+
+    @property
+    def seams(self):
+        """:class:`lab.grids.Seams` of the rectangle the patches tile: which of its edges meet (periodic
+        surfaces) or collapse to a point (a sphere's poles), from the surface; meshes weld them by index."""
+        return self._seams
 
     def _reset(self):
         self._size = None
@@ -185,25 +233,35 @@ class BezierPatches:
     def __iter__(self):
         return (BezierPatch(self, i) for i in range(len(self)))
 
-    def refine(self, num=1):
+    def refine(self, num=1, *, memory_limit=None):
         """Replace every patch by its four halves (de Casteljau at u = v = 1/2), ``num`` times.
 
         Afterwards there are ``4**num`` times as many patches; stored curvature
         and colours are cleared.  Returns ``self``.
+
+        The memory needed is estimated first (:meth:`refine_bytes`) and the
+        call refused with a ``ValueError`` above ``memory_limit`` (default:
+        :func:`lab.memory_limit`, a share of the available memory), so that
+        ``refine(14)`` says so instead of taking the machine down.  Each level
+        writes the children into one new array, :data:`PATCH_CHUNK` patches at
+        a time, so the time per patch does not grow with the number of patches.
         """
         num = _v.as_positive_int(num, "num", minimum=0)
+        n_final = len(self) * 4**num
+        _v.check_memory(self.refine_bytes(num), f"refine({num}) of {len(self)} patches ({n_final} patches)",
+                        memory_limit)
         for _ in range(num):
-            children, w = bezier.subdivide(self._P, 0.5, 0.5, self._w)  # (N, 2, 2, ...)
-            if self._grid is not None:
-                # keep the row-major grid: child (a, b) of patch (i, j) goes to (2i + a, 2j + b)
-                rows, cols = self._grid
-                children = _grid_order(children, rows, cols)
-                w = None if w is None else _grid_order(w, rows, cols)
-                self._grid = (2 * rows, 2 * cols)
-            self._P = children.reshape((-1,) + self._P.shape[1:])
-            self._w = None if w is None else w.reshape((-1,) + self._w.shape[1:])
+            self._P, self._w, self._grid = _refine_once(self._P, self._w, self._grid)
         self._reset()
         return self
+
+    def refine_bytes(self, num):
+        """Estimated peak memory of :meth:`refine` ``(num)``, in bytes: the last level's old and new nets
+        (the new ones four times as many) and the cleared curvature and colours of the result."""
+        num = _v.as_positive_int(num, "num", minimum=0)
+        per_patch = self._P[0].nbytes + (0 if self._w is None else self._w[0].nbytes)
+        n_final = len(self) * 4**num
+        return n_final * (1.25 * per_patch + PATCH_RESULT_BYTES) + (n_final > len(self)) * PATCH_CHUNK * 40 * per_patch
 
     def visualize_curvature(self, curvature_mode, color_map, **options):
         """Compute the curvature at every corner and colour it (the practical's task, reference solution).
@@ -211,7 +269,9 @@ class BezierPatches:
         For each patch: derivatives at the corners from the forward-difference
         nets, the chosen curvature from the fundamental forms, stored with
         ``set_curvature``; then the colour map over all corner values, stored
-        with ``set_colors``.  Done for all patches at once.
+        with ``set_colors``.  Done for all patches at once, :data:`PATCH_CHUNK`
+        patches at a time (so the time and the extra memory per patch stay
+        constant however many patches there are).
 
         Parameters
         ----------
@@ -225,11 +285,11 @@ class BezierPatches:
         **options
             Passed to the colour map, e.g. ``vmin``, ``vmax`` for :func:`lab.colormaps.dill`.
         """
-        values = curvature_values(self.corner_curvature(), curvature_mode)
-        self.curvature[...] = values
-        self.colors[...] = colors_for(
-            values, self._color_map_name(color_map), tol=zero_tolerance(curvature_mode, self.size), **options
-        )
+        curvature_mode = _curv.as_mode(curvature_mode)
+        name = self._color_map_name(color_map)
+        for sl, curv in self._corner_curvature_chunks():
+            self.curvature[sl] = curvature_values(curv, curvature_mode)
+        colors_for(self.curvature, name, tol=zero_tolerance(curvature_mode, self.size), out=self.colors, **options)
 
     # -- vectorised helpers -------------------------------------------------------
 
@@ -243,8 +303,9 @@ class BezierPatches:
     def size(self):
         """Diagonal of the bounding box of the patch corners (the model's length scale; cached)."""
         if self._size is None:
-            corners = self._P[:, [0, -1]][:, :, [0, -1]].reshape(-1, 3)
-            self._size = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
+            m, n = self.degree
+            corners = self._P[:, :: max(m, 1), :: max(n, 1)]  # a view: the four corner points of every patch
+            self._size = float(np.linalg.norm(corners.max(axis=(0, 1, 2)) - corners.min(axis=(0, 1, 2))))
         return self._size
 
     def derivatives(self, u, v):
@@ -264,9 +325,10 @@ class BezierPatches:
         u, v = _v.as_parameters(u, v, ((0.0, 1.0), (0.0, 1.0)))
         return self._with_limits(_curv.from_derivatives(self.derivatives(u, v)), u, v)
 
-    def _with_limits(self, curv, u, v):
-        """Replace values at degenerate points by their limits from inside the patch."""
-        P, w = self._P, self._w
+    def _with_limits(self, curv, u, v, patches=slice(None)):
+        """Replace values at degenerate points by their limits from inside the patch (of ``self[patches]``)."""
+        P = self._P[patches]
+        w = None if self._w is None else self._w[patches]
 
         def derivatives_at(index, uu, vv):
             wk = None if w is None else w[index[0]]
@@ -274,22 +336,38 @@ class BezierPatches:
 
         return _curv.with_limits(curv, u, v, (0.5, 0.5), derivatives_at)
 
-    def corner_derivatives(self):
+    def corner_derivatives(self, patches=slice(None)):
         """Derivatives at the four corners of every patch, fields ``(N, 2, 2, 3)`` indexed ``[patch, u, v]``.
 
         Read off the corners of the forward-difference nets
         (:func:`lab.bezier.corner_derivatives`), as in the practical's figure 3.
+        ``patches`` (a slice) restricts it to some patches.
         """
-        D = Derivatives(*bezier._corner_values(bezier.homogeneous(self._P, self._w)))  # nets checked on entry
-        return D if self._w is None else from_homogeneous(D)
+        w = None if self._w is None else self._w[patches]
+        D = Derivatives(*bezier._corner_values(bezier.homogeneous(self._P[patches], w)))  # nets checked on entry
+        return D if w is None else from_homogeneous(D)
 
     def corner_curvature(self, derivatives=None):
         """Exact curvature at the four corners of every patch, fields of shape ``(N, 2, 2)`` indexed ``[patch, u, v]``.
 
         ``derivatives`` may pass in :meth:`corner_derivatives` when the caller already has them.
         """
-        D = self.corner_derivatives() if derivatives is None else derivatives
-        return self._with_limits(_curv.from_derivatives(D), CORNER_U, CORNER_V)
+        if derivatives is not None:
+            return self._with_limits(_curv.from_derivatives(derivatives), CORNER_U, CORNER_V)
+        out = None
+        for sl, curv in self._corner_curvature_chunks():
+            if out is None:
+                out = [np.empty((len(self),) + np.shape(x)[1:], dtype=np.asarray(x).dtype) for x in curv]
+            for o, x in zip(out, curv):
+                o[sl] = x
+        return _curv.Curvature(*out)
+
+    def _corner_curvature_chunks(self):
+        """``(slice, Curvature)`` of the corners of :data:`PATCH_CHUNK` patches at a time."""
+        for start in range(0, max(len(self), 1), PATCH_CHUNK):
+            sl = slice(start, min(start + PATCH_CHUNK, len(self)))
+            curv = _curv.from_derivatives(self.corner_derivatives(sl))
+            yield sl, self._with_limits(curv, CORNER_U, CORNER_V, sl)
 
     # -- output -------------------------------------------------------------------
 
@@ -320,6 +398,7 @@ class BezierPatches:
         new.colors = self.colors.copy()
         new._size = self._size
         new._grid = self._grid
+        new._seams = self._seams
         return new
 
     def __repr__(self):

@@ -12,6 +12,7 @@ import numpy as np
 from ..geometry import bezier, bspline
 from ..geometry import curvature as _curv
 from ..geometry import tensor as _tensor
+from ..geometry.grids import Seams
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
 from .patches import BezierPatches
@@ -162,6 +163,47 @@ class Surface:
         curv = _curv.Curvature(*fields)
         return _curv.with_limits(curv, u, v, self.centre, lambda index, uu, vv: self._derivatives(uu, vv))
 
+    def sample_grid(self, u, v, *, memory_limit=None):
+        """Points, unit normals and curvature on the grid ``u`` × ``v`` in one pass (what a mesh needs).
+
+        Returns
+        -------
+        b : ndarray, shape ``(len(u), len(v), 3)``
+        N : ndarray, shape ``(len(u), len(v), 3)``
+            ``b_u x b_v / |b_u x b_v|``, NaN at degenerate points.
+        curvature : Curvature
+            As :meth:`curvature_grid`, degenerate points filled with their limits.
+        """
+        def fields(d):
+            N, _ = _curv.unit_normal(d.bu, d.bv)
+            return (d.b, N, *_curv.from_derivatives(d))
+
+        u, v, (b, N, *curv) = self.sample(fields, u, v, grid=True, memory_limit=memory_limit,
+                                          bytes_per_point=self.BYTES_PER_POINT["curvature"] + 48)
+        curv = _curv.with_limits(_curv.Curvature(*curv), u, v, self.centre,
+                                 lambda index, uu, vv: self._derivatives(uu, vv))
+        return b, N, curv
+
+    @property
+    def seams(self):
+        """Where the surface closes on itself or collapses: a :class:`lab.grids.Seams`.
+
+        ``periodic`` is :attr:`periodic`; an edge counts as collapsed when the
+        surface evaluated at 17 parameters along it gives one point exactly
+        (spline surfaces look at their control points instead, see there).
+        Meshes weld their grid nodes by these indices, never by distance.
+        """
+        collapsed = []
+        for axis in (0, 1):
+            ends = []
+            for end in self.domain[axis]:
+                t = np.linspace(*self.domain[1 - axis], 17)
+                u, v = (np.full_like(t, end), t) if axis == 0 else (t, np.full_like(t, end))
+                points = self._derivatives(u, v).b
+                ends.append(bool(np.all(points == points[:1])))
+            collapsed.append(tuple(ends))
+        return Seams(tuple(bool(p) for p in self.periodic), tuple(collapsed))
+
     def grid(self, nu, nv, *, memory_limit=None):
         """Parameter grid ``(u, v)`` of shape ``(nu, nv)`` covering the domain, ends included."""
         nu = _v.as_positive_int(nu, "nu", minimum=2)
@@ -195,6 +237,18 @@ class _SplineSurface(Surface):
 
     def _map_points(self, func, u, v):
         return _tensor.map_spline_points(self._spline(), func, u, v)
+
+    @property
+    def seams(self):
+        """As :attr:`Surface.seams`; an edge counts as collapsed when the knots are clamped there and the
+        control points of the edge's row are all the same point (then the edge, a spline curve of that row, is it)."""
+        P, knots_u, knots_v, p, q, _ = self._spline_args()
+        collapsed = []
+        for axis, (knots, degree) in enumerate(((knots_u, p), (knots_v, q))):
+            rows = (P[0], P[-1]) if axis == 0 else (P[:, 0], P[:, -1])
+            clamped = (np.all(knots[: degree + 1] == knots[0]), np.all(knots[-degree - 1 :] == knots[-1]))
+            collapsed.append(tuple(bool(c and np.all(r == r[:1])) for c, r in zip(clamped, rows)))
+        return Seams(tuple(bool(x) for x in self.periodic), tuple(collapsed))
 
     def _derivatives(self, u, v):
         return Derivatives(*_tensor.map_points(self._point_derivatives, tuple, u, v))
@@ -234,7 +288,7 @@ class BezierSurface(_SplineSurface):
     def to_bezier_patches(self):
         """A :class:`lab.BezierPatches` holding this one patch."""
         w = None if self.weights is None else self.weights[None]
-        return BezierPatches(self.control_points[None], w, grid_shape=(1, 1))
+        return BezierPatches(self.control_points[None], w, grid_shape=(1, 1), seams=self.seams)
 
     def __repr__(self):
         kind = "rational " if self.weights is not None else ""
@@ -294,7 +348,7 @@ class BSplineSurface(_SplineSurface):
         """One Bézier patch per non-empty knot span, as a :class:`lab.BezierPatches` (practical, section 5)."""
         nets, w, iu, iv = self.bezier_nets()
         flat_w = None if w is None else w.reshape((-1,) + w.shape[2:])
-        return BezierPatches(nets.reshape((-1,) + nets.shape[2:]), flat_w, grid_shape=nets.shape[:2])
+        return BezierPatches(nets.reshape((-1,) + nets.shape[2:]), flat_w, grid_shape=nets.shape[:2], seams=self.seams)
 
     def __repr__(self):
         kind = "NURBS" if self.weights is not None else "B-spline"
