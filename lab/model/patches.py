@@ -308,22 +308,31 @@ class BezierPatches:
             self._size = float(np.linalg.norm(corners.max(axis=(0, 1, 2)) - corners.min(axis=(0, 1, 2))))
         return self._size
 
-    def derivatives(self, u, v):
+    def _check_points(self, u, v, per_point, what, memory_limit):
+        """Check the parameters and that ``N`` patches times their points fit in the memory limit."""
+        u, v = _v.as_parameters(u, v, ((0.0, 1.0), (0.0, 1.0)))
+        _v.check_memory(per_point * len(self) * u.size, f"{what} of {len(self)} patches at {u.size} points each",
+                        memory_limit)
+        return u, v
+
+    def derivatives(self, u, v, *, memory_limit=None):
         """Derivatives of every patch at the points ``(u, v)``; fields of shape ``(N,) + S + (3,)``."""
+        u, v = self._check_points(u, v, 400, "derivatives", memory_limit)
         return bezier.derivatives(self._P, u, v, self._w)
 
-    def evaluate(self, u, v):
+    def evaluate(self, u, v, *, memory_limit=None):
         """Points of every patch at ``(u, v)``, shape ``(N,) + S + (3,)``."""
+        u, v = self._check_points(u, v, 100, "points", memory_limit)
         return bezier.evaluate(self._P, u, v, self._w)
 
-    def curvature_at(self, u, v):
+    def curvature_at(self, u, v, *, memory_limit=None):
         """Exact curvature of every patch at the points ``(u, v)`` (shape ``(N,) + S``).
 
         Degenerate points get the limit from inside the patch (see
         :func:`lab.curvature.fill_degenerate`).
         """
-        u, v = _v.as_parameters(u, v, ((0.0, 1.0), (0.0, 1.0)))
-        return self._with_limits(_curv.from_derivatives(self.derivatives(u, v)), u, v)
+        u, v = self._check_points(u, v, 800, "curvature", memory_limit)
+        return self._with_limits(_curv.from_derivatives(bezier.derivatives(self._P, u, v, self._w)), u, v)
 
     def _with_limits(self, curv, u, v, patches=slice(None)):
         """Replace values at degenerate points by their limits from inside the patch (of ``self[patches]``)."""
