@@ -45,6 +45,26 @@ class Surface:
         """Derivatives at checked parameters of any (equal) shape."""
         raise NotImplementedError
 
+    def _defining(self):
+        """The objects that define the surface (a cached result is rebuilt when one of them is replaced)."""
+        return (self.domain, self.periodic)
+
+    def cached(self, name, build):
+        """``build()``, computed once per surface and kept (evaluators, meshes for path finding).
+
+        Surfaces are values: a result is rebuilt when an attribute that defines
+        the surface (control points, knots, weights, domain, periodicity) is
+        replaced, not when an array is changed in place; make a new surface
+        to change one.
+        """
+        defining = self._defining()
+        key = tuple(x if isinstance(x, tuple) else id(x) for x in defining)
+        cache = self.__dict__.setdefault("_cache", {})
+        entry = cache.get(name)
+        if entry is None or entry[0] != key:
+            entry = cache[name] = (key, defining, build())  # keeping the objects keeps their ids unique
+        return entry[2]
+
     def _point_derivatives(self, u, v, work=None):
         """Derivatives at the flat parameters of one chunk, fields ``(k, 3)`` (spline surfaces override it)."""
         return self._derivatives(u, v)
@@ -219,15 +239,12 @@ class _SplineSurface(Surface):
     def _spline_args(self):  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def _defining(self):
+        return self._spline_args() + (self.domain, self.periodic)
+
     def _spline(self):
-        """The :class:`lab.tensor.Spline` of this surface, built once (surfaces are values: build a new one to change it)."""
-        args = self._spline_args()
-        key = tuple(id(a) for a in args)
-        cached = self.__dict__.get("_spline_cache")
-        if cached is None or cached[0] != key:
-            cached = (key, args, _tensor.spline(*args))  # keeping args keeps their ids unique
-            self._spline_cache = cached
-        return cached[2]
+        """The :class:`lab.tensor.Spline` of this surface, built once."""
+        return self.cached("spline", lambda: _tensor.spline(*self._spline_args()))
 
     def _point_derivatives(self, u, v, work=None):
         return _tensor.point_derivatives(self._spline(), u, v, work)
@@ -424,6 +441,9 @@ class ParametricSurface(Surface):
 
     def _derivatives(self, u, v):
         return self._func(u, v)
+
+    def _defining(self):
+        return (self._func, self.domain, self.periodic)
 
     def __repr__(self):
         return f"ParametricSurface({self.name}, domain={self.domain})"

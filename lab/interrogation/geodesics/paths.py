@@ -69,7 +69,7 @@ from .problem import (
     _check_tolerances,
     _direction,
     _fmt,
-    _Problem,
+    _problem,
     _regular_derivatives,
 )
 
@@ -212,7 +212,7 @@ def _prepare(surface, uv, angles, length, kind, rtol, atol, n_samples):
     n_samples = _v.as_positive_int(n_samples, "n_samples", minimum=2)
     d = _regular_derivatives(surface, u0, v0, "start point")
     n, duv = _direction(d, angles)  # (k, 3), (k, 2)
-    problem = _Problem(surface, kind)
+    problem = _problem(surface, kind)
     k = len(angles)
     start = np.tile([u0, v0], (k, 1))
     if kind == GEODESIC:
