@@ -25,43 +25,58 @@ CORNER_U = np.array([[0.0, 0.0], [1.0, 1.0]])
 CORNER_V = np.array([[0.0, 1.0], [0.0, 1.0]])
 
 
-#: Patches per chunk of refine and visualize_curvature (their corners fill one chunk of lab.tensor).
+#: Patches per chunk of refine (descendants) and visualize_curvature.
 PATCH_CHUNK = 512
 #: Bytes per patch of the stored corner curvature (4 floats) and colours (12 floats).
 PATCH_RESULT_BYTES = 16 * 8
 
 
-def _refine_once(P, w, grid):
-    """One level of :meth:`BezierPatches.refine`: nets ``(4N, ...)`` (and weights), in grid order if ``grid``.
+def _refine(P, w, grid, num):
+    """``num`` levels of :meth:`BezierPatches.refine`: nets ``(4**num N, ...)`` (and weights), in one pass.
 
-    The children of :data:`PATCH_CHUNK` patches at a time are computed
-    (:func:`lab.bezier.subdivide`) and written into the new arrays; with a
-    grid ``(rows, cols)``, child ``(a, b)`` of patch ``(i, j)`` goes to ``(2i + a, 2j + b)``.
+    Every patch is subdivided ``num`` times in a row (:func:`lab.bezier.subdivide`,
+    level by level, as refining level by level would), a few patches at a time
+    (about :data:`PATCH_CHUNK` descendants), and its ``2**num x 2**num``
+    descendants are written straight into the result, so no intermediate level
+    is ever held for all patches.  With a grid ``(rows, cols)`` descendant
+    ``(a, b)`` of patch ``(i, j)`` goes to ``(i 2**num + a, j 2**num + b)``;
+    otherwise the descendants of a patch follow it, in the order of the halves.
     """
-    n = len(P)
-    new_P = np.empty((4 * n,) + P.shape[1:])
-    new_w = None if w is None else np.empty((4 * n,) + w.shape[1:])
-    if grid is None:
-        step = PATCH_CHUNK
-    else:
-        rows, cols = grid
-        step = max(1, PATCH_CHUNK // cols) * cols  # whole rows of patches
-    for start in range(0, n, step):
-        sl = slice(start, min(start + step, n))
-        children, cw = bezier.subdivide(P[sl], 0.5, 0.5, None if w is None else w[sl])  # (k, 2, 2, ...)
-        if grid is None:
-            new_P.reshape((n, 2, 2) + P.shape[1:])[sl] = children
-            if w is not None:
-                new_w.reshape((n, 2, 2) + w.shape[1:])[sl] = cw
-            continue
-        r0, r1 = sl.start // cols, sl.stop // cols
-        for target, src, tail in ((new_P, children, P.shape[1:]), (new_w, cw, None if w is None else w.shape[1:])):
-            if target is None:
-                continue
-            grid_view = target.reshape((rows, 2, cols, 2) + tail)  # [i, a, j, b]
-            order = (0, 2, 1, 3) + tuple(range(4, 4 + len(tail)))  # [i, j, a, b] -> [i, a, j, b]
-            grid_view[r0:r1] = src.reshape((r1 - r0, cols, 2, 2) + tail).transpose(order)
-    return new_P, new_w, None if grid is None else (2 * grid[0], 2 * grid[1])
+    n, f = len(P), 2**num
+    tail_P, tail_w = P.shape[1:], None if w is None else w.shape[1:]
+    new_P = np.empty((n * f * f,) + tail_P)
+    new_w = None if w is None else np.empty((n * f * f,) + tail_w)
+    per = max(1, PATCH_CHUNK // (f * f))  # patches per chunk: whole rows of the grid, or pieces of one row
+    rows, cols = grid if grid is not None else (1, n)
+    step_rows, step_cols = (max(1, per // cols), cols) if per >= cols else (1, per)
+    for i0 in range(0, rows, step_rows):
+        i1 = min(i0 + step_rows, rows)
+        for j0 in range(0, cols, step_cols):
+            j1 = min(j0 + step_cols, cols)
+            if i1 - i0 > 1:
+                sl = slice(i0 * cols, i1 * cols)  # whole rows
+            else:
+                sl = slice(i0 * cols + j0, i0 * cols + j1)
+            Q, Qw = P[sl], None if w is None else w[sl]
+            for _ in range(num):
+                Q, Qw = bezier.subdivide(Q, 0.5, 0.5, Qw)  # (k, 2, 2, ...): the four halves of each
+                Q = Q.reshape((-1,) + tail_P)
+                Qw = None if Qw is None else Qw.reshape((-1,) + tail_w)
+            for target, src, tail in ((new_P, Q, tail_P), (new_w, Qw, tail_w)):
+                if target is None:
+                    continue
+                k = sl.stop - sl.start
+                if grid is None:
+                    target.reshape((n, f * f) + tail)[sl] = src.reshape((k, f * f) + tail)
+                    continue
+                # src is (k, a1, b1, a2, b2, ...): the row of a descendant is the binary number a1 a2 ..., its column b1 b2 ...
+                src = src.reshape((i1 - i0, k // (i1 - i0)) + (2,) * (2 * num) + tail)
+                order = (0, 1) + tuple(range(2, 2 * num + 2, 2)) + tuple(range(3, 2 * num + 2, 2))
+                order += tuple(range(2 * num + 2, src.ndim))
+                block = src.transpose(order).reshape((i1 - i0, k // (i1 - i0), f, f) + tail)  # [i, j, a, b]
+                rest = tuple(range(4, block.ndim))
+                target.reshape((rows, f, cols, f) + tail)[i0:i1, :, j0:j1] = block.transpose((0, 2, 1, 3) + rest)
+    return new_P, new_w, None if grid is None else (rows * f, cols * f)
 
 
 class BezierPatch:
@@ -242,26 +257,28 @@ class BezierPatches:
         The memory needed is estimated first (:meth:`refine_bytes`) and the
         call refused with a ``ValueError`` above ``memory_limit`` (default:
         :func:`lab.memory_limit`, a share of the available memory), so that
-        ``refine(14)`` says so instead of taking the machine down.  Each level
-        writes the children into one new array, :data:`PATCH_CHUNK` patches at
-        a time, so the time per patch does not grow with the number of patches.
+        ``refine(14)`` says so instead of taking the machine down.  All levels
+        are done patch by patch in one pass, the descendants written straight
+        into one new array (:func:`_refine`), so the time and the memory per
+        patch do not grow with the number of patches.
         """
         num = _v.as_positive_int(num, "num", minimum=0)
         n_final = len(self) * 4**num
         _v.check_memory(self.refine_bytes(num), f"refine({num}) of {len(self)} patches ({n_final} patches)",
                         memory_limit)
-        for _ in range(num):
-            self._P, self._w, self._grid = _refine_once(self._P, self._w, self._grid)
+        if num:
+            self._P, self._w, self._grid = _refine(self._P, self._w, self._grid, num)
         self._reset()
         return self
 
     def refine_bytes(self, num):
-        """Estimated peak memory of :meth:`refine` ``(num)``, in bytes: the last level's old and new nets
-        (the new ones four times as many) and the cleared curvature and colours of the result."""
+        """Estimated peak memory of :meth:`refine` ``(num)``, in bytes: the new nets and the cleared curvature
+        and colours of the result, the old nets, and the temporaries of one chunk."""
         num = _v.as_positive_int(num, "num", minimum=0)
         per_patch = self._P[0].nbytes + (0 if self._w is None else self._w[0].nbytes)
         n_final = len(self) * 4**num
-        return n_final * (1.25 * per_patch + PATCH_RESULT_BYTES) + (n_final > len(self)) * PATCH_CHUNK * 40 * per_patch
+        chunk = max(PATCH_CHUNK, 4**num) * 16 * per_patch if num else 0
+        return n_final * (per_patch + PATCH_RESULT_BYTES) + len(self) * per_patch + chunk
 
     def visualize_curvature(self, curvature_mode, color_map, **options):
         """Compute the curvature at every corner and colour it (the practical's task, reference solution).
