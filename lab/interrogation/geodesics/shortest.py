@@ -23,7 +23,7 @@ from .problem import (
 __all__ = ["geodesic_between"]
 
 #: Tolerances of the solver while the shooting is still far from B (it switches to the requested ones near B).
-COARSE_RTOL, COARSE_ATOL = 1e-6, 1e-8
+COARSE_RTOL, COARSE_ATOL = 1e-5, 1e-7
 #: Step in α of the forward difference for the derivative of the end point.
 ANGLE_STEP = 1e-7
 #: Largest change of α in one Gauss–Newton step (radians).
