@@ -71,6 +71,7 @@ def test_calls_that_grow_with_the_work_are_guarded(limit):
         (lambda: lab.mesh.surface_mesh(s, 300, 300), "a surface mesh of 300 x 300 vertices"),
         (lambda: s.to_bezier_patches().to_mesh(resolution=16), "a mesh of 49 patches at resolution 16"),
         (lambda: s.to_bezier_patches().curvature_at(u[:50, None], u[None, :50] / 7), "curvature of 49 patches"),
+        (lambda: lab.geodesic_fan(s, (3.0, 3.0), 400, 1.0), "400 geodesic"),
     ]
     for call, what in calls:
         with pytest.raises(ValueError, match=what + ".* more than the limit of 100 KiB"):

@@ -257,6 +257,7 @@ def check_memory(nbytes, what, limit=None):
     if nbytes > limit:
         raise ValueError(
             f"{what} would need about {format_bytes(nbytes)} of memory, more than the limit of "
-            f"{format_bytes(limit)} ({source}); ask for less, or raise the limit with "
-            "lab.set_memory_limit(...) or the memory_limit keyword if the machine has the memory"
+            f"{format_bytes(limit)} ({source}); ask for less, or, if the machine has the memory, raise the limit "
+            "with lab.set_memory_limit(...), the environment variable LAB_MEMORY_LIMIT or the call's memory_limit "
+            "keyword where it has one"
         )

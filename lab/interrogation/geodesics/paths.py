@@ -75,6 +75,9 @@ from .problem import (
 
 __all__ = ["Fan", "Path", "geodesic", "geodesic_fan", "normal_section", "normal_section_fan"]
 
+#: Memory a path plans for: per sample (parameters, point, tangent) and for the solver's steps (dense output).
+PATH_BYTES_PER_SAMPLE, PATH_BYTES = 80, 100_000
+
 
 # --------------------------------------------------------------------------- results
 
@@ -210,6 +213,8 @@ def _prepare(surface, uv, angles, length, kind, rtol, atol, n_samples):
     L = _check_length(length)
     rtol, atol = _check_tolerances(rtol, atol)
     n_samples = _v.as_positive_int(n_samples, "n_samples", minimum=2)
+    _v.check_memory(len(angles) * (PATH_BYTES_PER_SAMPLE * n_samples + PATH_BYTES), (
+        f"{len(angles)} {kind}(s) of {n_samples} samples each"))
     d = _regular_derivatives(surface, u0, v0, "start point")
     n, duv = _direction(d, angles)  # (k, 3), (k, 2)
     problem = _problem(surface, kind)
