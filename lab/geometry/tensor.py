@@ -12,10 +12,16 @@ one chunk at a time, to a function that reduces them (to curvature, normals,
 ...), so the temporary memory is bounded by :data:`CHUNK`, not by the number
 of points:
 
-* :func:`map_points` for parameters of any shape: per chunk the spans, the
-  basis rows ``(3, p+1, k)`` of u and of v (:func:`lab.bspline.basis_rows`),
-  the control points of each point's span with one ``np.take``, and two
-  contractions, over ``i`` and then over ``j``, on arrays with the points last;
+* :func:`map_spline_points` for parameters of any shape: the points are
+  sorted by their pair of knot spans (a counting sort); per chunk the basis
+  rows ``(3, p+1, k)`` of u and of v (:func:`lab.bspline.basis_rows`), their
+  products, and per group of points in one pair of spans the ``(p+1)(q+1)``
+  control points gathered once and one matrix product (BLAS)
+  (:func:`grouped_derivatives`).  With few points per pair of spans the
+  points are taken as they come, their control points gathered with one
+  ``np.take`` per chunk and contracted over ``i`` and then ``j``
+  (:func:`point_derivatives`, also the path of surfaces without splines,
+  :func:`map_points`);
 * :func:`map_grid` for a grid ``u`` vector × ``v`` vector: the basis rows once
   per u and once per v, the control points once per pair of spans, and per
   block of the grid two matrix products (BLAS).
