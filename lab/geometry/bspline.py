@@ -1,4 +1,4 @@
-r"""Tensor-product B-spline and NURBS surfaces: validation, evaluation, knot insertion, Bézier extraction.
+r"""Tensor-product B-spline and NURBS surfaces: validation, basis functions, knot insertion, Bézier extraction.
 
 A surface of degrees ``(p, q)`` has a control net ``P`` of shape
 ``(nu, nv, d)``, knot vectors of lengths ``nu + p + 1`` and ``nv + q + 1`` and
@@ -9,17 +9,17 @@ vectors alike.
 .. math:: \mathbf x(u,v) = \frac{\sum_i\sum_j w_{ij}\mathbf P_{ij} N_{i,p}(u) N_{j,q}(v)}
                                {\sum_i\sum_j w_{ij} N_{i,p}(u) N_{j,q}(v)}
 
-References: The NURBS Book (Piegl & Tiller), A2.1 (span), A2.3 (basis
-function derivatives), A5.1 (knot insertion, Boehm's algorithm), A4.4
-(rational derivatives); the practical (``seeds/001``, section 5) for the
-conversion to Bézier patches.
+References: The NURBS Book (Piegl & Tiller), A2.1 (span), A2.2 and A2.3
+(basis functions and their derivatives), A5.1 (knot insertion, Boehm's
+algorithm); the practical (``seeds/001``, section 5) for the conversion to
+Bézier patches.  Surfaces are evaluated with these basis functions by
+:mod:`lab.tensor` (in chunks, points grouped by knot spans, grids separably).
 """
 
 import numpy as np
 
 from . import validation as _v
-from .bezier import DERIVATIVE_ORDERS, dehomogenize, homogeneous
-from .derivatives import Derivatives, from_homogeneous
+from .bezier import dehomogenize, homogeneous
 
 __all__ = [
     "validate_knots",
@@ -27,8 +27,6 @@ __all__ = [
     "find_span",
     "basis_derivatives",
     "basis_rows",
-    "derivatives",
-    "evaluate",
     "insert_knot",
     "to_bezier",
 ]
@@ -216,50 +214,6 @@ def _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights):
     tv = validate_knots(knots_v, degree_v, P.shape[1], "knot vector in v")
     weights = _v.as_weights(weights, P.shape[:2])
     return P, tu, tv, weights
-
-
-def derivatives(P, knots_u, knots_v, degree_u, degree_v, u, v, weights=None):
-    """Point and first and second partial derivatives of a B-spline / NURBS surface.
-
-    Parameters
-    ----------
-    P : (nu, nv, d) array_like
-        Control net, first index along u.
-    knots_u, knots_v : array_like
-        Knot vectors of lengths ``nu + degree_u + 1`` and ``nv + degree_v + 1``.
-    degree_u, degree_v : int
-    u, v : array_like
-        Parameters in the domain, broadcast against each other to shape ``S``.
-    weights : (nu, nv) array_like, optional
-
-    Returns
-    -------
-    Derivatives
-        Fields of shape ``S + (d,)``.
-    """
-    P, tu, tv, weights = _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights)
-    u, v = _v.as_parameters(u, v, (domain(tu, degree_u), domain(tv, degree_v)))
-    Pw = homogeneous(P, weights)
-    S = u.shape
-    uf, vf = u.ravel(), v.ravel()
-    su = find_span(tu, degree_u, uf)
-    sv = find_span(tv, degree_v, vf)
-    Nu = basis_derivatives(tu, degree_u, su, uf, 2)
-    Nv = basis_derivatives(tv, degree_v, sv, vf, 2)
-    iu = su[:, None] - degree_u + np.arange(degree_u + 1)
-    iv = sv[:, None] - degree_v + np.arange(degree_v + 1)
-    local = Pw[iu[:, :, None], iv[:, None, :]]  # (k, p+1, q+1, d)
-    fields = [
-        np.einsum("ki,kj,kijd->kd", Nu[:, du], Nv[:, dv], local, optimize=True).reshape(S + (Pw.shape[-1],))
-        for du, dv in DERIVATIVE_ORDERS
-    ]
-    D = Derivatives(*fields)
-    return D if weights is None else from_homogeneous(D)
-
-
-def evaluate(P, knots_u, knots_v, degree_u, degree_v, u, v, weights=None):
-    """Surface points: the field ``b`` of :func:`derivatives`."""
-    return derivatives(P, knots_u, knots_v, degree_u, degree_v, u, v, weights).b
 
 
 def insert_knot(Pw, knots, degree, t, times=1, axis=0):
