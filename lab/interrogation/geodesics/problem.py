@@ -353,12 +353,22 @@ class _Problem:
 
         Remembered for the last cells asked for: the stages of a step all ask for the same cells.
         """
+        return self._cell_data(cell)[:2]
+
+    def _cell_data(self, cell):
+        """``(lower, upper, span, 1 / width)`` of the cells, remembered for the last cells asked for."""
         key = (cell.shape, cell.tobytes())
-        if self._bounds_cache[0] == key:
-            return self._bounds_cache[1]
-        bounds = self._cell_bounds(cell)
-        self._bounds_cache = (key, bounds)
-        return bounds
+        cached = self._bounds_cache  # one read: the problem is shared between threads (explorers)
+        if cached[0] == key:
+            return cached[1]
+        lower, upper = self._cell_bounds(cell)
+        span = cell.copy()
+        for axis in range(2):
+            if self.periodic[axis]:
+                span[:, axis] = np.mod(cell[:, axis], self.n_spans[axis])
+        data = (lower, upper, span, 1.0 / (upper - lower))
+        self._bounds_cache = (key, data)
+        return data
 
     def _cell_bounds(self, cell):
         lower, upper = np.empty(cell.shape), np.empty(cell.shape)
@@ -430,7 +440,7 @@ class _Problem:
         if bad is not None:  # a failing step: evaluate somewhere harmless, report NaN
             uv = np.where(bad[:, None], 0.5 * (lower + upper), uv)
         if self.patches is not None:
-            span, local = self._local(uv, cell, lower, upper)
+            span, local = self._local(uv, cell)
             d = self.patches(span[:, 0], span[:, 1], local[:, 0], local[:, 1])
         else:
             w = self.wrap(uv)
@@ -446,20 +456,16 @@ class _Problem:
         """
         if self.kind == GEODESIC and not regular and self.patches is not None and np.isfinite(y).all():
             # the common case, in as few array operations as possible: patch polynomials -> eq. 11
-            lower, upper = self.cell_bounds(cell)
-            span, local = self._local(y[:, :2], cell, lower, upper)
+            span, local = self._local(y[:, :2], cell)
             return _geodesic_rhs_fast(self.patches.vectors(span[:, 0], span[:, 1], *local.T), y)
         d = self.derivatives(y[:, :2], cell)
         f = _geodesic_rhs(d, y) if self.kind == GEODESIC else _section_rhs(d, D)
         return (f, _regularity(d) - _DEGENERATE_STOP) if regular else f
 
-    def _local(self, uv, cell, lower, upper):
+    def _local(self, uv, cell):
         """The patch (span index per direction) of each cell and the local parameters in it."""
-        span = cell.copy()
-        for axis in range(2):
-            if self.periodic[axis]:
-                span[:, axis] = np.mod(cell[:, axis], self.n_spans[axis])
-        return span, (uv - lower) / (upper - lower)
+        lower, _, span, inv_width = self._cell_data(cell)
+        return span, (uv - lower) * inv_width
 
     def tangent(self, y, D=None):
         """``(du/ds, dv/ds)`` at states ``y`` (k, m), evaluated with the public surface derivatives."""
