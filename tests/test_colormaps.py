@@ -83,3 +83,16 @@ def test_bad_input_messages():
         cm.apply("rainbow", [1.0])
     with pytest.raises(ValueError, match="percentiles must satisfy"):
         cm.percentile([1.0, 2.0], 90, 10)
+
+
+@pytest.mark.parametrize("name", sorted(cm.COLOR_MAPS))
+def test_colours_in_chunks_equal_colours_at_once(name, rng):
+    # colors_for finds the map's range once and colours chunk by chunk: the same colours as one chunk
+    x = rng.normal(size=(999, 2, 2)) * 3
+    x[5, 1, 1] = np.nan
+    whole = cm.colors_for(x, name, chunk=10**6)
+    parts = cm.colors_for(x, name, chunk=7)
+    np.testing.assert_array_equal(parts, whole)
+    np.testing.assert_array_equal(whole[5, 1, 1], [0.5, 0.5, 0.5])  # NaN: grey
+    direct = cm.apply(name, x[np.isfinite(x)])
+    np.testing.assert_allclose(whole[np.isfinite(x)], direct, atol=1e-15)  # and what the map gives on its own

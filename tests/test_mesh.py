@@ -273,3 +273,49 @@ def test_flat_shading_draws_each_polygon_in_one_of_dills_colours():
     assert _distinct_colours(flat) < _distinct_colours(smooth) / 3
     with pytest.raises(ValueError, match="shading must be 'smooth' or 'flat'; got 'phong'"):
         render.show(t, shading="phong")
+
+
+def test_welding_is_by_index_never_by_distance():
+    # a cylinder whose seam is declared periodic is welded there; the same geometry declared open is not,
+    # although the seam's points coincide exactly: welding follows the parameter grid, not distances
+    closed = surfaces.cylinder(1.0, 2.0)
+    assert closed.seams.periodic == (True, False)
+    m = M.surface_mesh(closed, 13, 5)
+    assert m.n_points == 12 * 5
+    opened = surfaces.cylinder(1.0, 2.0)
+    opened.periodic = (False, False)
+    m = M.surface_mesh(opened, 13, 5)
+    assert m.n_points == 13 * 5
+    assert np.isclose(np.linalg.norm(m.points[:5] - m.points[-5:], axis=1).max(), 0.0, atol=1e-12)
+    # nodes that come close without being the same parameter stay apart: a grid finer than the weld tolerance
+    fine = M.surface_mesh(surfaces.practical(), 3, 3)
+    tiny = surfaces.plane(1e-11)
+    assert M.surface_mesh(tiny, 4, 4).n_points == 16 and fine.n_points == 9
+
+
+def test_seams_come_from_the_structure():
+    assert surfaces.sphere().seams == ((True, False), ((False, False), (True, True)))
+    assert surfaces.torus().seams == ((True, True), ((False, False), (False, False)))
+    assert surfaces.cone().seams.collapsed == ((False, False), (False, True))  # the apex edge v = 1
+    assert surfaces.sine_wave().seams == ((False, True), ((True, False), (False, False)))  # the centre, analytic
+    assert surfaces.practical().seams == ((False, False), ((False, False), (False, False)))
+    p = surfaces.sphere().to_bezier_patches()
+    assert p.seams == surfaces.sphere().seams and p.refine(1).seams == p.seams
+    with pytest.warns(lab.DegeneratePointWarning):
+        m = p.to_mesh(resolution=2)
+    edges = m.extract_feature_edges(boundary_edges=True, feature_edges=False, manifold_edges=False,
+                                    non_manifold_edges=False)
+    assert edges.n_cells == 0  # closed: the seam and both poles are welded
+    # 4 x 2 patches refined once: 8 x 4, at resolution 2 a grid of 17 x 9 nodes: 16 around, 7 inner rows, 2 poles
+    assert p.grid_shape == (8, 4) and m.n_points == 16 * 7 + 2
+
+
+def test_large_mesh_is_welded_with_exact_curvature():
+    s = surfaces.practical()
+    m = M.surface_mesh(s, 449, 449)
+    assert m.n_points == 449 * 449 and m.n_cells == 448 * 448
+    uv = m.point_data["uv"]
+    pick = np.random.default_rng(3).integers(0, m.n_points, 50)
+    c = s.curvature(uv[pick, 0], uv[pick, 1])
+    np.testing.assert_allclose(m.point_data["K"][pick], c.K, rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(m.points[pick], s.evaluate(uv[pick, 0], uv[pick, 1]), atol=1e-13)

@@ -13,6 +13,7 @@ forward differences; The NURBS Book (Piegl & Tiller), A1.5 (de Casteljau) and
 A4.4 / eq. 4.20 (rational derivatives).
 """
 
+import functools
 import math
 
 import numpy as np
@@ -213,6 +214,7 @@ def derivatives(P, u, v, weights=None, paired=False):
     return D if weights is None else from_homogeneous(D)
 
 
+@functools.lru_cache(maxsize=None)
 def _corner_stencil(degree, order):
     """Indices and weights of the r-th forward difference at both ends of a degree-m polygon.
 
@@ -228,6 +230,17 @@ def _corner_stencil(degree, order):
     for j in range(order):
         weights = weights * (degree - j)
     return np.stack([k, degree - order + k]), weights
+
+
+@functools.lru_cache(maxsize=None)
+def _both_corners(degree, order):
+    """The stencil of :func:`_corner_stencil` seen from both ends: indices ``0..r`` and ``m..m-r`` (2, r+1) and
+    the weights, those of the end t = 1 times ``(-1)^r`` (reading the polygon backwards); None if it vanishes."""
+    stencil = _corner_stencil(degree, order)
+    if stencil is None:
+        return None
+    k, w = stencil[0][0], stencil[1]
+    return np.stack([k, degree - k]), np.stack([w, (-1.0) ** order * w])
 
 
 def corner_derivatives(P, weights=None):
@@ -261,28 +274,28 @@ def corner_derivatives(P, weights=None):
 def _corner_values(Pw):
     """The six derivative fields at the corners of the (unchecked) nets ``Pw``, each ``(..., 2, 2, d)``.
 
-    Each corner is brought to (0, 0) by reversing the net along u and/or v (a
-    view, no copy); reversing a direction flips the sign of odd derivatives
-    along it, hence the factor ``(-1)^(a du + b dv)``.  The nets are first laid
-    out control point by control point, ``(m+1, n+1, d, batch)``, so that every
-    term of a stencil is one contiguous array over all patches.
+    Each corner is brought to (0, 0) by reversing the net along u and/or v;
+    reversing a direction flips the sign of odd derivatives along it, hence
+    the factor ``(-1)^(a du + b dv)``.  The nets are first laid out control
+    point by control point, ``(m+1, n+1, d, batch)``, and the stencil's control
+    points are gathered for the four corners at once, so every term of a
+    stencil is one array operation over all corners of all patches.
     """
     m, n = Pw.shape[-3] - 1, Pw.shape[-2] - 1
     Q = np.ascontiguousarray(np.moveaxis(Pw, (-3, -2, -1), (0, 1, 2)))  # (m+1, n+1, d, *batch)
+    extra = (1,) * (Q.ndim - 2)
     fields = []
     for du, dv in DERIVATIVE_ORDERS:
         field = np.zeros((2, 2) + Q.shape[2:])
-        su, sv = _corner_stencil(m, du), _corner_stencil(n, dv)
+        su, sv = _both_corners(m, du), _both_corners(n, dv)
         if su is not None and sv is not None:
-            for a in (0, 1):
-                Fa = Q[::-1] if a else Q
-                for b in (0, 1):
-                    F = Fa[:, ::-1] if b else Fa
-                    sign = (-1.0) ** (a * du + b * dv)
-                    acc = field[a, b]
-                    for k, wk in enumerate(su[1]):
-                        for l, wl in enumerate(sv[1]):
-                            acc += (sign * wk * wl) * F[k, l]
+            # all four corners at once: G[a, k, b, l] = Q[k-th index from corner a, l-th from corner b]
+            (iu, wu), (iv, wv) = su, sv
+            G = Q[iu[:, :, None, None], iv[None, None, :, :]]  # (2, du+1, 2, dv+1, d, *batch)
+            for k in range(du + 1):
+                for l in range(dv + 1):
+                    coef = (wu[:, k, None] * wv[None, :, l]).reshape((2, 2) + extra)
+                    field += coef * G[:, k, :, l]
         fields.append(np.moveaxis(field, (0, 1, 2), (-3, -2, -1)))  # a view: (*batch, 2, 2, d)
     return fields
 
@@ -319,14 +332,13 @@ def split(P, t=0.5, axis=-3):
     left, right : ndarray
         Nets of the same shape as ``P`` for ``[0, t]`` and ``[t, 1]``.
     """
-    Q = np.moveaxis(np.asarray(P, dtype=float), axis, 0)
-    left, right = [Q[0]], [Q[-1]]
-    while Q.shape[0] > 1:
+    Q = np.ascontiguousarray(np.moveaxis(np.asarray(P, dtype=float), axis, 0))  # contiguous rows: fast arithmetic
+    n = Q.shape[0]
+    left, right = np.empty_like(Q), np.empty_like(Q)
+    left[0], right[n - 1] = Q[0], Q[n - 1]
+    for level in range(1, n):
         Q = (1.0 - t) * Q[:-1] + t * Q[1:]
-        left.append(Q[0])
-        right.append(Q[-1])
-    left = np.stack(left, axis=0)
-    right = np.stack(right[::-1], axis=0)
+        left[level], right[n - 1 - level] = Q[0], Q[-1]
     return np.moveaxis(left, 0, axis), np.moveaxis(right, 0, axis)
 
 

@@ -1,4 +1,4 @@
-r"""Tensor-product B-spline and NURBS surfaces: validation, evaluation, knot insertion, Bézier extraction.
+r"""Tensor-product B-spline and NURBS surfaces: validation, basis functions, knot insertion, Bézier extraction.
 
 A surface of degrees ``(p, q)`` has a control net ``P`` of shape
 ``(nu, nv, d)``, knot vectors of lengths ``nu + p + 1`` and ``nv + q + 1`` and
@@ -9,25 +9,24 @@ vectors alike.
 .. math:: \mathbf x(u,v) = \frac{\sum_i\sum_j w_{ij}\mathbf P_{ij} N_{i,p}(u) N_{j,q}(v)}
                                {\sum_i\sum_j w_{ij} N_{i,p}(u) N_{j,q}(v)}
 
-References: The NURBS Book (Piegl & Tiller), A2.1 (span), A2.3 (basis
-function derivatives), A5.1 (knot insertion, Boehm's algorithm), A4.4
-(rational derivatives); the practical (``seeds/001``, section 5) for the
-conversion to Bézier patches.
+References: The NURBS Book (Piegl & Tiller), A2.1 (span), A2.2 and A2.3
+(basis functions and their derivatives), A5.1 (knot insertion, Boehm's
+algorithm); the practical (``seeds/001``, section 5) for the conversion to
+Bézier patches.  Surfaces are evaluated with these basis functions by
+:mod:`lab.tensor` (in chunks, points grouped by knot spans, grids separably).
 """
 
 import numpy as np
 
 from . import validation as _v
-from .bezier import DERIVATIVE_ORDERS, dehomogenize, homogeneous
-from .derivatives import Derivatives, from_homogeneous
+from .bezier import dehomogenize, homogeneous
 
 __all__ = [
     "validate_knots",
     "domain",
     "find_span",
     "basis_derivatives",
-    "derivatives",
-    "evaluate",
+    "basis_rows",
     "insert_knot",
     "to_bezier",
 ]
@@ -75,13 +74,13 @@ def find_span(knots, degree, t):
     Vectorised; the right end of the domain belongs to the last non-empty span.
     """
     n_points = len(knots) - degree - 1
-    lo, hi = domain(knots, degree)
-    t = np.clip(np.asarray(t, dtype=float), lo, hi)
-    k = np.searchsorted(knots, t, side="right") - 1
+    _, hi = domain(knots, degree)
+    k = np.searchsorted(knots, t, side="right")
+    k -= 1
     # At t == hi the search lands after the end of the domain; step back to the
-    # last non-empty span.
+    # last non-empty span.  Parameters outside the domain get the first or last span.
     last = np.searchsorted(knots, hi, side="left") - 1
-    return np.clip(k, degree, min(n_points - 1, last))
+    return np.clip(k, degree, min(n_points - 1, last), out=k if np.ndim(k) else None)
 
 
 def basis_derivatives(knots, degree, span, t, n_derivatives):
@@ -151,56 +150,70 @@ def basis_derivatives(knots, degree, span, t, n_derivatives):
     return np.moveaxis(ders, -1, 0)
 
 
+def basis_rows(knots, degree, span, t):
+    r"""The non-zero basis functions and their first two derivatives, points last: the fast path of A2.3.
+
+    The values come from the Cox–de Boor triangle (The NURBS Book, A2.2) run
+    on whole arrays of parameters; the derivatives from the values of degree
+    ``p - 1`` and ``p - 2`` (The NURBS Book, eq. 2.9)
+
+    .. math:: N'_{i,p} = \frac{p}{t_{i+p} - t_i} N_{i,p-1} - \frac{p}{t_{i+p+1} - t_{i+1}} N_{i+1,p-1},
+
+    applied once for the first and twice (to degree ``p - 1``, then ``p``) for
+    the second derivative.  Every denominator is a difference of knots that
+    spans the point's non-empty knot span, so none vanishes.  Equal to
+    :func:`basis_derivatives` with ``n_derivatives=2`` (which stays the
+    reference) up to rounding, with a third of its array operations.
+
+    Parameters
+    ----------
+    knots : (n + p + 1,) ndarray
+    degree : int
+    span : (k,) int ndarray
+        Spans from :func:`find_span`.
+    t : (k,) ndarray
+        Parameters.
+
+    Returns
+    -------
+    ndarray, shape ``(3, degree + 1, k)``
+        ``out[r, i]`` is the r-th derivative of ``N_{span-p+i, p}`` at every point.
+    """
+    p = degree
+    t = np.asarray(t, dtype=float)
+    left = [None] + [t - knots[span + 1 - j] for j in range(1, p + 1)]
+    right = [None] + [knots[span + j] - t for j in range(1, p + 1)]
+    out = np.zeros((3, p + 1) + t.shape)
+    levels = [[np.ones_like(t)]]  # levels[j][r] = N_{span-j+r, j}
+    for j in range(1, p + 1):
+        prev, cur, saved = levels[-1], [], 0.0
+        for r in range(j):
+            temp = prev[r] / (right[r + 1] + left[j - r])
+            cur.append(saved + right[r + 1] * temp)
+            saved = left[j - r] * temp
+        cur.append(saved)
+        levels.append(cur)
+    out[0] = levels[p]
+
+    def differentiate(values, deg):
+        """Derivatives of the degree-``deg`` functions from ``values`` of degree ``deg - 1`` (eq. 2.9)."""
+        # a_i = deg / (t_{span+i} - t_{span-deg+i}), i = 1 .. deg, in terms of left/right
+        terms = [deg * values[i - 1] / (right[i] + left[deg + 1 - i]) for i in range(1, deg + 1)]
+        return [-terms[0]] + [terms[i - 1] - terms[i] for i in range(1, deg)] + [terms[-1]]
+
+    if p >= 1:
+        out[1] = differentiate(levels[p - 1], p)
+    if p >= 2:
+        out[2] = differentiate(differentiate(levels[p - 2], p - 1), p)
+    return out
+
+
 def _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights):
     P = _v.as_control_net(P, dim=None)
     tu = validate_knots(knots_u, degree_u, P.shape[0], "knot vector in u")
     tv = validate_knots(knots_v, degree_v, P.shape[1], "knot vector in v")
     weights = _v.as_weights(weights, P.shape[:2])
     return P, tu, tv, weights
-
-
-def derivatives(P, knots_u, knots_v, degree_u, degree_v, u, v, weights=None):
-    """Point and first and second partial derivatives of a B-spline / NURBS surface.
-
-    Parameters
-    ----------
-    P : (nu, nv, d) array_like
-        Control net, first index along u.
-    knots_u, knots_v : array_like
-        Knot vectors of lengths ``nu + degree_u + 1`` and ``nv + degree_v + 1``.
-    degree_u, degree_v : int
-    u, v : array_like
-        Parameters in the domain, broadcast against each other to shape ``S``.
-    weights : (nu, nv) array_like, optional
-
-    Returns
-    -------
-    Derivatives
-        Fields of shape ``S + (d,)``.
-    """
-    P, tu, tv, weights = _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights)
-    u, v = _v.as_parameters(u, v, (domain(tu, degree_u), domain(tv, degree_v)))
-    Pw = homogeneous(P, weights)
-    S = u.shape
-    uf, vf = u.ravel(), v.ravel()
-    su = find_span(tu, degree_u, uf)
-    sv = find_span(tv, degree_v, vf)
-    Nu = basis_derivatives(tu, degree_u, su, uf, 2)
-    Nv = basis_derivatives(tv, degree_v, sv, vf, 2)
-    iu = su[:, None] - degree_u + np.arange(degree_u + 1)
-    iv = sv[:, None] - degree_v + np.arange(degree_v + 1)
-    local = Pw[iu[:, :, None], iv[:, None, :]]  # (k, p+1, q+1, d)
-    fields = [
-        np.einsum("ki,kj,kijd->kd", Nu[:, du], Nv[:, dv], local, optimize=True).reshape(S + (Pw.shape[-1],))
-        for du, dv in DERIVATIVE_ORDERS
-    ]
-    D = Derivatives(*fields)
-    return D if weights is None else from_homogeneous(D)
-
-
-def evaluate(P, knots_u, knots_v, degree_u, degree_v, u, v, weights=None):
-    """Surface points: the field ``b`` of :func:`derivatives`."""
-    return derivatives(P, knots_u, knots_v, degree_u, degree_v, u, v, weights).b
 
 
 def insert_knot(Pw, knots, degree, t, times=1, axis=0):

@@ -39,10 +39,13 @@ __all__ = [
     "ZERO_TOL",
     "ColorMap",
     "colors_for",
+    "map_range",
 ]
 
 #: Default tolerance below which a value counts as zero in :func:`f3`.
 ZERO_TOL = 1e-9
+#: Values coloured at a time by :func:`colors_for`.
+COLOR_CHUNK = 16384
 
 #: Dill's colours, from the lowest band to the highest (figure 6).
 DILL_COLORS = np.array(
@@ -152,7 +155,7 @@ def symmetric(x, vmax=None):
     return np.clip(0.5 + 0.5 * x / m, 0.0, 1.0)
 
 
-def percentile(x, lower=2.0, upper=98.0):
+def percentile(x, lower=2.0, upper=98.0, *, vmin=None, vmax=None):
     """Robust linear map: f2 between the ``lower`` and ``upper`` percentiles, values beyond are cut.
 
     Pros: a few extreme values (near a degenerate point, a tiny crease) no
@@ -161,24 +164,26 @@ def percentile(x, lower=2.0, upper=98.0):
     depends on the sampling density.
     """
     x = _values(x)
+    if vmin is not None and vmax is not None:  # the percentiles, found before (see map_range)
+        return f2(x, vmin, vmax)
     if not 0 <= lower < upper <= 100:
         raise ValueError(f"percentiles must satisfy 0 <= lower < upper <= 100; got {lower}, {upper}")
     lo, hi = np.percentile(x, [lower, upper])
     return f2(x, lo, hi)
 
 
-def signed_log(x, scale=None):
+def signed_log(x, scale=None, vmax=None):
     r"""Signed logarithmic map :math:`0.5 + 0.5\,\mathrm{sign}(x)\log(1+|x|/s)/\log(1+M/s)`.
 
     ``s`` (default: the median of ``|x|``) sets where the map turns from
-    linear to logarithmic; ``M = max|x|``.
+    linear to logarithmic; ``M = max|x|`` (or ``vmax``).
 
     Pros: small and large curvatures are both visible; the sign stays readable.
     Cons: magnitudes are no longer proportional to colour distances.
     """
     x = _values(x)
     a = np.abs(x)
-    M = np.max(a) if a.size else 0.0
+    M = (np.max(a) if a.size else 0.0) if vmax is None else float(vmax)
     if M <= 0:
         return np.full(x.shape, 0.5)
     s = float(np.median(a)) if scale is None else float(scale)
@@ -250,22 +255,63 @@ class ColorMap(str, enum.Enum):
     CLASSIFICATION = "classification"  #: h ∘ f3
 
 
-def colors_for(values, color_map, *, tol=ZERO_TOL, **options):
+def colors_for(values, color_map, *, tol=ZERO_TOL, out=None, chunk=COLOR_CHUNK, **options):
     """RGB colours for curvature ``values`` under ``color_map``; non-finite values become grey.
 
     ``tol`` is the size below which a value (or, for f2, the spread of the
     values) is rounding noise: f3 paints such values as zero and f2 paints
     such a spread as one colour.  Values without a finite limit at degenerate
     points (NaN) are painted mid-grey and excluded from the min/max.
+
+    The range of the map (min/max, max |x|, percentiles, median) is found once
+    over all finite values (:func:`map_range`); the colours are then computed
+    ``chunk`` values at a time into ``out`` (shape ``values.shape + (3,)``,
+    allocated if None), so large collections need no full-size temporaries.
     """
     name = color_map.value if isinstance(color_map, ColorMap) else color_map
+    if name not in COLOR_MAPS:
+        raise ValueError(f"unknown colour map {name!r}; expected one of {', '.join(COLOR_MAPS)}")
     values = np.asarray(values, dtype=float)
-    finite = np.isfinite(values)
-    out = np.full(values.shape + (3,), 0.5)
+    if out is None:
+        out = np.empty(values.shape + (3,))
     if name == "classification":
         options.setdefault("tol", tol)
     elif name == "linear":
         options.setdefault("atol", tol)
-    if np.any(finite):
-        out[finite] = apply(name, values[finite], **options)
+    flat, rgb = values.reshape(-1), out.reshape(-1, 3)
+    options = map_range(name, flat[np.isfinite(flat)], **options)
+    for a in range(0, max(flat.size, 1), chunk):
+        x = flat[a : a + chunk]
+        finite = np.isfinite(x)
+        rgb[a : a + chunk] = 0.5
+        if np.any(finite):
+            rgb[a : a + chunk][finite] = apply(name, x[finite], **options)
     return out
+
+
+def map_range(name, values, **options):
+    """``options`` completed with the range of colour map ``name`` over ``values``, so it maps elementwise.
+
+    The maps that normalise by the values themselves (linear, symmetric,
+    percentile, signed-log) get their range here once; applied to any part
+    of the values with these options they colour it as they would all of them.
+    """
+    x = _values(values)
+    if not x.size:
+        return options
+    if name == "linear":
+        options.setdefault("vmin", float(np.min(x)))
+        options.setdefault("vmax", float(np.max(x)))
+    elif name == "symmetric":
+        options.setdefault("vmax", float(np.max(np.abs(x))))
+    elif name == "percentile":
+        lower, upper = options.pop("lower", 2.0), options.pop("upper", 98.0)
+        if not 0 <= lower < upper <= 100:
+            raise ValueError(f"percentiles must satisfy 0 <= lower < upper <= 100; got {lower}, {upper}")
+        lo, hi = np.percentile(x, [lower, upper])
+        options.update(vmin=float(lo), vmax=float(hi))
+    elif name == "signed-log":
+        a = np.abs(x)
+        options.setdefault("vmax", float(np.max(a)))
+        options.setdefault("scale", float(np.median(a)))
+    return options

@@ -56,6 +56,7 @@ __all__ = [
     "fill_degenerate",
     "with_limits",
     "CurvatureMode",
+    "as_mode",
     "curvature_values",
     "zero_tolerance",
 ]
@@ -215,14 +216,17 @@ def from_derivatives(d):
     """
     # Dill's unnormalised form: Q = b_u x b_v, A, B, C = Q . (b_uu, b_uv, b_vv), e = A/|Q| ...;
     # EG - F^2 = |Q|^2 (Lagrange's identity) without the cancellation of EG - F^2.
-    Q = np.cross(d.bu, d.bv)
-    W2 = _dot(Q, Q)
-    E, F, G = _dot(d.bu, d.bu), _dot(d.bu, d.bv), _dot(d.bv, d.bv)
+    # Written out per coordinate on views with the coordinates first: the operations of np.cross
+    # and of the dot products, in their order, without their temporaries of shape batch + (3,).
+    bu, bv, buu, buv, bvv = (np.moveaxis(np.asarray(x), -1, 0) for x in d[1:])
+    Q = (bu[1] * bv[2] - bu[2] * bv[1], bu[2] * bv[0] - bu[0] * bv[2], bu[0] * bv[1] - bu[1] * bv[0])
+    W2 = _dot3(Q, Q)
+    E, F, G = _dot3(bu, bu), _dot3(bu, bv), _dot3(bv, bv)
     degenerate = W2 <= (DEGENERATE_RTOL * (E + G)) ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
         W2 = np.where(degenerate, np.nan, W2)
         W = np.sqrt(W2)
-        e, f, g = _dot(Q, d.buu) / W, _dot(Q, d.buv) / W, _dot(Q, d.bvv) / W
+        e, f, g = _dot3(Q, buu) / W, _dot3(Q, buv) / W, _dot3(Q, bvv) / W
         K = (e * g - f**2) / W2
         S11 = (G * e - F * f) / W2
         S12 = (G * f - F * g) / W2
@@ -231,6 +235,11 @@ def from_derivatives(d):
     H = 0.5 * (S11 + S22)
     root = np.sqrt(np.maximum(0.25 * (S11 - S22) ** 2 + S12 * S21, 0.0))
     return Curvature(K, H, H + root, H - root, degenerate)
+
+
+def _dot3(a, b):
+    """Dot product of two vectors given by their three coordinate arrays."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 def strain_energy(k1, k2):
@@ -387,9 +396,14 @@ class CurvatureMode(str, enum.Enum):
     STRAIN_ENERGY = "strain-energy"  #: κ1² + κ2²
 
 
+def as_mode(mode):
+    """``mode`` as a :class:`CurvatureMode`; a ``ValueError`` naming the plain choices (``'gaussian'``, ...) otherwise."""
+    return CurvatureMode(_v.as_choice(mode, list(CurvatureMode), "curvature mode"))
+
+
 def curvature_values(curv, mode):
     """The values of ``curv`` (a :class:`lab.curvature.Curvature`) for a :class:`CurvatureMode`."""
-    mode = CurvatureMode(_v.as_choice(mode, list(CurvatureMode), "curvature mode"))
+    mode = as_mode(mode)
     if mode is CurvatureMode.STRAIN_ENERGY:
         return curv.strain_energy
     return {"gaussian": curv.K, "mean": curv.H, "k1": curv.k1, "k2": curv.k2}[mode.value]

@@ -6,6 +6,7 @@ that messages are uniform across the library and can be pinned by tests.
 """
 
 import numbers
+import os
 
 import numpy as np
 
@@ -13,8 +14,16 @@ __all__ = [
     "as_control_net",
     "as_weights",
     "as_parameters",
+    "as_parameter_vector",
     "as_positive_int",
     "as_choice",
+    "choice_name",
+    "MEMORY_FRACTION",
+    "available_memory",
+    "memory_limit",
+    "set_memory_limit",
+    "check_memory",
+    "format_bytes",
 ]
 
 
@@ -81,17 +90,29 @@ def as_parameters(u, v, domain, *, atol=1e-12):
         uu, vv = np.broadcast_arrays(uu, vv)
     except ValueError:
         raise ValueError(f"u and v must broadcast against each other; got shapes {uu.shape} and {vv.shape}") from None
-    out = []
-    for name, arr, (lo, hi) in (("u", uu, domain[0]), ("v", vv, domain[1])):
-        if not np.all(np.isfinite(arr)):
-            raise ValueError(f"{name} must be finite; got NaN or inf")
-        slack = atol * max(1.0, hi - lo)
-        if arr.size and (arr.min() < lo - slack or arr.max() > hi + slack):
-            raise ValueError(
-                f"{name} must lie in the domain [{lo:g}, {hi:g}]; got values in [{arr.min():g}, {arr.max():g}]"
-            )
-        out.append(np.clip(arr, lo, hi))
-    return out[0], out[1]
+    return _in_interval(uu, domain[0], "u", atol), _in_interval(vv, domain[1], "v", atol)
+
+
+def as_parameter_vector(t, interval, name, *, atol=1e-12):
+    """A 1-D array of parameters in ``interval`` (one side of a grid), checked and clipped as :func:`as_parameters`."""
+    arr = _as_float_array(t, name)
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D array of parameters (one side of the grid); got shape {arr.shape}")
+    return _in_interval(arr, interval, name, atol)
+
+
+def _in_interval(arr, interval, name, atol):
+    """``arr`` checked to be finite and within ``interval`` up to the slack; clipped (a copy) only if it needs it."""
+    lo, hi = interval
+    if not arr.size:
+        return arr
+    low, high = arr.min(), arr.max()  # NaN and inf show up here, without a temporary array
+    if not (np.isfinite(low) and np.isfinite(high)):
+        raise ValueError(f"{name} must be finite; got NaN or inf")
+    slack = atol * max(1.0, hi - lo)
+    if low < lo - slack or high > hi + slack:
+        raise ValueError(f"{name} must lie in the domain [{lo:g}, {hi:g}]; got values in [{low:g}, {high:g}]")
+    return np.clip(arr, lo, hi) if (low < lo or high > hi) else arr
 
 
 def as_positive_int(value, name, minimum=0):
@@ -108,5 +129,135 @@ def as_choice(value, choices, name):
     for choice in choices:
         if value == choice:
             return choice
-    listed = ", ".join(repr(c) for c in choices)
-    raise ValueError(f"unknown {name} {value!r}; expected one of {listed}")
+    listed = ", ".join(repr(choice_name(c)) for c in choices)
+    raise ValueError(f"unknown {name} {choice_name(value)!r}; expected one of {listed}")
+
+
+def choice_name(value):
+    """The plain name of a choice: an enum member's value (``'gaussian'``, not ``<CurvatureMode.GAUSSIAN: ...>``)."""
+    return getattr(value, "value", value)
+
+
+# ----------------------------------------------------------------------------- memory guard
+
+#: Share of the available memory that one call may plan to use by default.
+MEMORY_FRACTION = 0.5
+_override = {"limit": None}
+
+
+def available_memory():
+    """Memory this process can still use, in bytes: MemAvailable, lowered by a container's (cgroup) limit.
+
+    None where neither is known.
+    """
+    found = []
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    found.append(int(line.split()[1]) * 1024)
+    except (OSError, ValueError, IndexError):
+        pass
+    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+        try:
+            with open(limit_file) as f:
+                text = f.read().strip()
+            with open(usage_file) as f:
+                used = int(f.read().strip())
+            if text != "max" and int(text) < 2**60:
+                found.append(max(int(text) - used, 0))
+        except (OSError, ValueError):
+            pass
+    if not found:
+        try:
+            found.append(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (OSError, ValueError, AttributeError):
+            return None
+    return min(found)
+
+
+def _as_bytes(value, name="memory limit"):
+    units = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
+    if isinstance(value, str):
+        text = value.strip().upper().removesuffix("IB").removesuffix("B")
+        unit = text[-1:] if text[-1:] in units else ""
+        try:
+            value = float(text[: len(text) - len(unit)]) * units[unit]
+        except ValueError:
+            raise ValueError(f"{name} must be a number of bytes or a size such as '2G'; got {value!r}") from None
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value) or value <= 0:
+        raise ValueError(f"{name} must be a positive number of bytes or a size such as '2G'; got {value!r}")
+    return int(value)
+
+
+def format_bytes(n):
+    """``n`` bytes as a short text: ``'1.5 GiB'``."""
+    for unit, size in (("TiB", 2**40), ("GiB", 2**30), ("MiB", 2**20), ("KiB", 2**10)):
+        if n >= size:
+            return f"{n / size:.3g} {unit}"
+    return f"{int(n)} B"
+
+
+def memory_limit():
+    """The memory one call may plan to use, in bytes, and where that number comes from.
+
+    In this order: :func:`set_memory_limit`, the environment variable
+    ``LAB_MEMORY_LIMIT`` (bytes, or a size such as ``"4G"``), else
+    :data:`MEMORY_FRACTION` of :func:`available_memory` (looked up at each call).
+
+    Returns
+    -------
+    (int, str)
+    """
+    if _override["limit"] is not None:
+        return _override["limit"], "set with lab.set_memory_limit"
+    env = os.environ.get("LAB_MEMORY_LIMIT")
+    if env:
+        return _as_bytes(env, "LAB_MEMORY_LIMIT"), "from LAB_MEMORY_LIMIT"
+    available = available_memory()
+    if available is None:
+        return 4 * 2**30, "a default of 4 GiB: the available memory is unknown"
+    return int(MEMORY_FRACTION * available), f"{MEMORY_FRACTION:.0%} of the {format_bytes(available)} available"
+
+
+def set_memory_limit(limit):
+    """Set the memory one call may plan to use (bytes, or a size such as ``"8G"``); ``None`` restores the default.
+
+    Returns the previous setting (None for the default), so that a test or a
+    course hub can restore it.
+    """
+    previous = _override["limit"]
+    _override["limit"] = None if limit is None else _as_bytes(limit)
+    return previous
+
+
+def check_memory(nbytes, what, limit=None):
+    """Refuse work whose estimated memory ``nbytes`` exceeds the limit, before anything is allocated.
+
+    Parameters
+    ----------
+    nbytes : float
+        Estimated peak memory of the work, in bytes.
+    what : str
+        The work, for the message (``"refine(14) (13153337344 patches)"``).
+    limit : int or str, optional
+        Overrides :func:`memory_limit` for this call.
+
+    Raises
+    ------
+    ValueError
+        Naming the estimate and the limit.
+    """
+    if limit is None:
+        limit, source = memory_limit()
+    else:
+        limit, source = _as_bytes(limit), "given as memory_limit"
+    if nbytes > limit:
+        raise ValueError(
+            f"{what} would need about {format_bytes(nbytes)} of memory, more than the limit of "
+            f"{format_bytes(limit)} ({source}); ask for less, or, if the machine has the memory, raise the limit "
+            "with lab.set_memory_limit(...), the environment variable LAB_MEMORY_LIMIT or the call's memory_limit "
+            "keyword where it has one"
+        )

@@ -1,11 +1,13 @@
-"""Meshes with exact curvature as point data (PyVista), welded by grid index or by distance.
+"""Meshes with exact curvature as point data (PyVista), welded by grid index.
 
 The practical shows every Bézier patch as a quadrilateral with its four
 corner colours (Gouraud shading interpolates between them); that is
 :func:`patches_mesh` with ``resolution=1``.  Finer ``resolution`` samples each
 patch on a grid, with curvature computed exactly at every node.  Vertices
-shared by neighbouring patches are welded, and their point data averaged, so
-the mesh is one connected surface.
+shared by neighbouring patches, and the seams and collapsed edges of the
+surface (:class:`lab.grids.Seams`), are welded by their grid index, and their
+point data averaged, so the mesh is one connected surface.  Only a collection
+of unrelated patches (no ``grid_shape``) is welded by distance.
 """
 
 import numpy as np
@@ -17,6 +19,7 @@ from scipy.spatial import cKDTree
 from ..geometry import validation as _v
 from ..geometry.colormaps import colors_for
 from ..geometry.curvature import Curvature, CurvatureMode, curvature_values, unit_normal, zero_tolerance
+from ..geometry.grids import NO_SEAMS, weld_labels
 
 __all__ = [
     "weld",
@@ -26,10 +29,13 @@ __all__ = [
     "color_curvature",
     "color_cells",
     "WELD_RTOL",
+    "MESH_BYTES_PER_POINT",
 ]
 
-#: Points closer than WELD_RTOL times the bounding-box diagonal are merged.
+#: Points closer than WELD_RTOL times the bounding-box diagonal are merged (unrelated patches only).
 WELD_RTOL = 1e-9
+#: Bytes per vertex a mesh plans for: the sampled fields, the welded copies and VTK's arrays.
+MESH_BYTES_PER_POINT = 400
 
 
 def weld(points, rtol=WELD_RTOL, extent=None):
@@ -77,18 +83,19 @@ def _average(labels, n, values):
 
 
 def _index_labels(g, a, b, grid_shape):
-    """Welded vertex labels of patch grids that tile a rectangle: patch (I, J) point (s, t) -> (I(a-1)+s, J(b-1)+t)."""
+    """Node of the tiled rectangle of every grid point: patch (I, J) point (s, t) -> (I(a-1)+s, J(b-1)+t).
+
+    Returns the node index of every point (row-major over the rectangle) and the rectangle's shape.
+    """
     rows, cols = grid_shape
     I, J = np.divmod(np.arange(g), cols)
-    s = np.arange(a)
-    t = np.arange(b)
-    gi = I[:, None, None] * (a - 1) + s[None, :, None]
-    gj = J[:, None, None] * (b - 1) + t[None, None, :]
+    gi = I[:, None, None] * (a - 1) + np.arange(a)[None, :, None]
+    gj = J[:, None, None] * (b - 1) + np.arange(b)[None, None, :]
     width = cols * (b - 1) + 1
-    return (gi * width + gj).ravel(), (rows * (a - 1) + 1) * width, width
+    return (gi * width + gj).ravel(), (rows * (a - 1) + 1, width)
 
 
-def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_shape=None):
+def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_shape=None, seams=NO_SEAMS):
     """A quad mesh from grids of points, welded across grids.
 
     Parameters
@@ -104,9 +111,13 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_s
         Values per grid point of which a welded point keeps the first (e.g.
         ``uv`` parameters, which differ across the seam of a closed surface).
     grid_shape : (rows, columns), optional
-        The grids tile a rectangle in row-major order: shared points are
-        welded by index (fast), and only the outer boundary is welded by
-        distance (seams of closed surfaces, collapsed edges).
+        The grids tile a rectangle in row-major order (one grid: ``(1, 1)``):
+        points are welded by index, shared edges of neighbouring grids and the
+        rectangle's ``seams`` (:func:`lab.grids.weld_labels`).  Without it the
+        grids are unrelated patches and coincident points are welded by
+        distance (:func:`weld`).
+    seams : lab.grids.Seams
+        Periodic and collapsed edges of the rectangle (with ``grid_shape``).
 
     Returns
     -------
@@ -124,30 +135,20 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_s
     first = {k: flat(v) for k, v in (first_data or {}).items()}
     if weld_points:
         if grid_shape is not None:
-            labels, n, width = _index_labels(g, a, b, grid_shape)
-            # weld the rectangle's boundary by distance too (seams, poles): a few points only
-            boundary = np.zeros(n, bool)
-            boundary[:width] = boundary[-width:] = True
-            boundary[::width] = boundary[width - 1 :: width] = True
-            pos = np.zeros((n, 3))
-            pos[labels] = flat_points
-            b_idx = np.nonzero(boundary)[0]
-            b_labels, _ = weld(pos[b_idx], extent=float(np.linalg.norm(np.ptp(flat_points, axis=0))))
-            remap = np.arange(n)
-            remap[b_idx] = b_idx[_first_of(b_labels)[b_labels]]
-            labels = remap[labels]
-            _, labels = np.unique(labels, return_inverse=True)
-            n = int(labels.max()) + 1
+            node, shape = _index_labels(g, a, b, grid_shape)
+            node_labels, n = weld_labels(shape, seams)
+            labels = node_labels[node]
         else:
             labels, n = weld(flat_points)
-        quads = labels[quads]
-        flat_points = _average(labels, n, flat_points)
-        for k, v in data.items():
-            if v.dtype == bool:
-                data[k] = np.bincount(labels, weights=v, minlength=n) > 0
-            else:
-                data[k] = _average(labels, n, v)
-        first = {k: v[_first_of(labels, n)] for k, v in first.items()}
+        if n < len(labels) or np.any(labels != np.arange(len(labels))):
+            quads = labels[quads]
+            flat_points = _average(labels, n, flat_points)
+            for k, v in data.items():
+                if v.dtype == bool:
+                    data[k] = np.bincount(labels, weights=v, minlength=n) > 0
+                else:
+                    data[k] = _average(labels, n, v)
+            first = {k: v[_first_of(labels, n)] for k, v in first.items()}
     mesh = pv.PolyData(flat_points, _faces_without_collapsed_edges(quads))
     for k, v in {**data, **first}.items():
         mesh.point_data[k] = v
@@ -212,7 +213,7 @@ def _curvature_data(D, curv):
     return {"K": curv.K, "H": curv.H, "k1": curv.k1, "k2": curv.k2, "degenerate": curv.degenerate, "N": N}
 
 
-def patches_mesh(patches, resolution=1):
+def patches_mesh(patches, resolution=1, *, memory_limit=None):
     """A welded :class:`pyvista.PolyData` of a :class:`lab.BezierPatches` collection.
 
     Parameters
@@ -231,9 +232,12 @@ def patches_mesh(patches, resolution=1):
         ``set_colors``), also ``RGB`` (uint8, the corner colours interpolated
         bilinearly inside a patch, as Gouraud shading would) and ``values``
         (the stored corner values, interpolated).  Patches that tile a grid
-        (:attr:`lab.BezierPatches.grid_shape`) are welded by index, others by distance.
+        (:attr:`lab.BezierPatches.grid_shape`) are welded by index, also across the
+        surface's seams (:attr:`lab.BezierPatches.seams`); unrelated patches by distance.
     """
     resolution = _v.as_positive_int(resolution, "resolution", minimum=1)
+    _v.check_memory(MESH_BYTES_PER_POINT * len(patches) * (resolution + 1) ** 2,
+                    f"a mesh of {len(patches)} patches at resolution {resolution}", memory_limit)
     s = np.linspace(0.0, 1.0, resolution + 1)
     if resolution == 1:
         D = patches.corner_derivatives()
@@ -246,25 +250,36 @@ def patches_mesh(patches, resolution=1):
     if np.all(np.isfinite(patches.colors)):
         data["colors"] = _bilinear(patches.colors, s)
         data["values"] = _bilinear(patches.curvature[..., None], s)[..., 0]
-    mesh = grid_mesh(D.b, data, grid_shape=patches.grid_shape)
+    mesh = grid_mesh(D.b, data, grid_shape=patches.grid_shape, seams=patches.seams)
     if "colors" in mesh.point_data:
         mesh.point_data["RGB"] = np.round(255 * np.clip(mesh.point_data.pop("colors"), 0, 1)).astype(np.uint8)
     return mesh
 
 
-def surface_mesh(surface, nu=64, nv=64, curvature_mode=None, color_map=None, **map_options):
+def surface_mesh(surface, nu=64, nv=64, curvature_mode=None, color_map=None, *, memory_limit=None, **map_options):
     """A welded mesh of any :class:`lab.Surface` on an ``nu x nv`` parameter grid, with exact curvature.
 
-    Seams of closed surfaces (torus, sphere poles) are welded.  Point data as
-    :func:`patches_mesh`, plus ``uv``, the parameters of each vertex.  With
+    The grid is sampled in one pass (:meth:`lab.Surface.sample_grid`: basis
+    functions once per u and once per v); its nodes are the vertices, welded
+    by index where the surface closes on itself or collapses
+    (:attr:`lab.Surface.seams`: a torus's seams, a sphere's poles), never by
+    distance.  Point data as :func:`patches_mesh`, plus ``uv``, the
+    parameters of each vertex (the first node's on a seam).  With
     ``curvature_mode`` and ``color_map`` the point data also holds ``values``
     and ``RGB`` coloured like :meth:`lab.BezierPatches.visualize_curvature`.
+    ``memory_limit``: see :func:`lab.memory_limit`; larger grids are refused before any work.
     """
-    U, V = surface.grid(nu, nv)
-    D = surface.derivatives(U, V)
-    curv = surface.curvature(U, V)
-    data = _curvature_data(D, curv)
-    mesh = grid_mesh(D.b[None], {k: v[None] for k, v in data.items()}, first_data={"uv": np.stack([U, V], -1)[None]})
+    nu = _v.as_positive_int(nu, "nu", minimum=2)
+    nv = _v.as_positive_int(nv, "nv", minimum=2)
+    _v.check_memory(MESH_BYTES_PER_POINT * nu * nv, f"a surface mesh of {nu} x {nv} vertices", memory_limit)
+    (u0, u1), (v0, v1) = surface.domain
+    u, v = np.linspace(u0, u1, nu), np.linspace(v0, v1, nv)
+    b, N, curv = surface.sample_grid(u, v, memory_limit=memory_limit)
+    data = {"K": curv.K, "H": curv.H, "k1": curv.k1, "k2": curv.k2, "degenerate": curv.degenerate, "N": N}
+    uv = np.empty((nu, nv, 2))
+    uv[..., 0], uv[..., 1] = u[:, None], v[None, :]
+    mesh = grid_mesh(b[None], {k: x[None] for k, x in data.items()}, first_data={"uv": uv[None]}, grid_shape=(1, 1),
+                     seams=surface.seams)
     if curvature_mode is not None and color_map is not None:
         color_curvature(mesh, curvature_mode, color_map, **map_options)
     return mesh

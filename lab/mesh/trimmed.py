@@ -10,7 +10,8 @@ parameters ``uv``.
 import numpy as np
 import pyvista as pv
 
-from .build import _average, _curvature_data, color_curvature, weld
+from ..geometry.grids import weld_parameters
+from .build import _average, _curvature_data, color_curvature
 
 __all__ = ["trimmed_mesh"]
 
@@ -28,9 +29,10 @@ def trimmed_mesh(trimmed, n_u=32, n_v=32, max_area=None, min_angle=20.0, curvatu
         With both, also ``values`` and ``RGB`` point data coloured like
         :meth:`lab.BezierPatches.visualize_curvature`.
     weld_points : bool
-        Merge vertices that the base surface maps to the same point (a seam
-        of a closed surface, a collapsed edge); their data are averaged, ``uv``
-        keeps the first, and triangles that collapse are dropped.
+        Merge vertices that the base surface maps to the same point, by their
+        parameters: on a seam of a closed surface or a collapsed edge
+        (:attr:`lab.Surface.seams`, :func:`lab.grids.weld_parameters`); their data
+        are averaged, ``uv`` keeps the first, and triangles that collapse are dropped.
 
     Returns
     -------
@@ -45,7 +47,7 @@ def trimmed_mesh(trimmed, n_u=32, n_v=32, max_area=None, min_angle=20.0, curvatu
     data = _curvature_data(D, surface.curvature(u, v))
     points = D.b
     if weld_points and len(points) > 1:
-        labels, n = weld(points)
+        labels, n = weld_parameters(uv, surface.domain, surface.seams)
         if n < len(points):
             tri = labels[tri]
             tri = tri[(tri[:, 0] != tri[:, 1]) & (tri[:, 1] != tri[:, 2]) & (tri[:, 2] != tri[:, 0])]

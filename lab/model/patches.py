@@ -16,6 +16,7 @@ from ..geometry import validation as _v
 from ..geometry.colormaps import ColorMap, colors_for
 from ..geometry.curvature import CurvatureMode, curvature_values, zero_tolerance
 from ..geometry.derivatives import Derivatives, from_homogeneous
+from ..geometry.grids import NO_SEAMS, Seams
 
 __all__ = ["BezierPatches", "BezierPatch", "CurvatureMode", "ColorMap", "CORNER_U", "CORNER_V"]
 
@@ -24,10 +25,58 @@ CORNER_U = np.array([[0.0, 0.0], [1.0, 1.0]])
 CORNER_V = np.array([[0.0, 1.0], [0.0, 1.0]])
 
 
-def _grid_order(children, rows, cols):
-    """Reorder (rows*cols, 2, 2, ...) children into the row-major order of the (2 rows, 2 cols) grid."""
-    c = children.reshape((rows, cols, 2, 2) + children.shape[3:])
-    return np.swapaxes(c, 1, 2).reshape((4 * rows * cols,) + children.shape[3:])
+#: Patches per chunk of refine (descendants) and visualize_curvature.
+PATCH_CHUNK = 512
+#: Bytes per patch of the stored corner curvature (4 floats) and colours (12 floats).
+PATCH_RESULT_BYTES = 16 * 8
+
+
+def _refine(P, w, grid, num):
+    """``num`` levels of :meth:`BezierPatches.refine`: nets ``(4**num N, ...)`` (and weights), in one pass.
+
+    Every patch is subdivided ``num`` times in a row (:func:`lab.bezier.subdivide`,
+    level by level, as refining level by level would), a few patches at a time
+    (about :data:`PATCH_CHUNK` descendants), and its ``2**num x 2**num``
+    descendants are written straight into the result, so no intermediate level
+    is ever held for all patches.  With a grid ``(rows, cols)`` descendant
+    ``(a, b)`` of patch ``(i, j)`` goes to ``(i 2**num + a, j 2**num + b)``;
+    otherwise the descendants of a patch follow it, in the order of the halves.
+    """
+    n, f = len(P), 2**num
+    tail_P, tail_w = P.shape[1:], None if w is None else w.shape[1:]
+    new_P = np.empty((n * f * f,) + tail_P)
+    new_w = None if w is None else np.empty((n * f * f,) + tail_w)
+    per = max(1, PATCH_CHUNK // (f * f))  # patches per chunk: whole rows of the grid, or pieces of one row
+    rows, cols = grid if grid is not None else (1, n)
+    step_rows, step_cols = (max(1, per // cols), cols) if per >= cols else (1, per)
+    for i0 in range(0, rows, step_rows):
+        i1 = min(i0 + step_rows, rows)
+        for j0 in range(0, cols, step_cols):
+            j1 = min(j0 + step_cols, cols)
+            if i1 - i0 > 1:
+                sl = slice(i0 * cols, i1 * cols)  # whole rows
+            else:
+                sl = slice(i0 * cols + j0, i0 * cols + j1)
+            Q, Qw = P[sl], None if w is None else w[sl]
+            for _ in range(num):
+                Q, Qw = bezier.subdivide(Q, 0.5, 0.5, Qw)  # (k, 2, 2, ...): the four halves of each
+                Q = Q.reshape((-1,) + tail_P)
+                Qw = None if Qw is None else Qw.reshape((-1,) + tail_w)
+            for target, src, tail in ((new_P, Q, tail_P), (new_w, Qw, tail_w)):
+                if target is None:
+                    continue
+                k = sl.stop - sl.start
+                if grid is None:
+                    target.reshape((n, f * f) + tail)[sl] = src.reshape((k, f * f) + tail)
+                    continue
+                # src is (k, a1, b1, a2, b2, ...): the row of a descendant is the binary number a1 a2 ..., its column b1 b2 ...
+                src = src.reshape((i1 - i0, k // (i1 - i0)) + (2,) * (2 * num) + tail)
+                order = (0, 1) + tuple(range(2, 2 * num + 2, 2)) + tuple(range(3, 2 * num + 2, 2))
+                order += tuple(range(2 * num + 2, src.ndim))
+                block = src.transpose(order).reshape((i1 - i0, k // (i1 - i0), f, f) + tail)  # [i, j, a, b]
+                rest = tuple(range(4, block.ndim))
+                target.reshape((rows, f, cols, f) + tail)[i0:i1, :, j0:j1] = block.transpose((0, 2, 1, 3) + rest)
+    return new_P, new_w, None if grid is None else (rows * f, cols * f)
 
 
 class BezierPatch:
@@ -104,6 +153,11 @@ class BezierPatches:
         The nets, first index along u.  A single net ``(m+1, n+1, 3)`` is one patch.
     weights : (N, m+1, n+1) array_like, optional
         Weights of rational patches.
+    grid_shape : (rows, columns), optional
+        See :attr:`grid_shape`.
+    seams : lab.grids.Seams, optional
+        Where the tiled rectangle closes on itself or collapses (a torus, a
+        sphere's poles); see :attr:`seams`.
 
     Attributes
     ----------
@@ -122,7 +176,7 @@ class BezierPatches:
     COLOR_MAP_CUT = ColorMap.CUT
     COLOR_MAP_CLASSIFICATION = ColorMap.CLASSIFICATION
 
-    def __init__(self, control_points, weights=None, grid_shape=None):
+    def __init__(self, control_points, weights=None, grid_shape=None, seams=None):
         P = _v.as_control_net(control_points, "control points", batch=True)
         if P.ndim == 3:  # a single net is one patch
             P = P[None]
@@ -138,6 +192,9 @@ class BezierPatches:
                 raise ValueError(f"grid_shape must be (rows, columns) with rows * columns = {len(P)} patches; "
                                  f"got {grid_shape}")
         self._grid = grid_shape
+        if seams is not None and grid_shape is None:
+            raise ValueError("seams describe the edges of a grid of patches: give grid_shape too")
+        self._seams = NO_SEAMS if seams is None else Seams(*seams)
         self._reset()
 
     @property
@@ -149,6 +206,12 @@ class BezierPatches:
         meshes use it to weld shared corners by index.
         """
         return self._grid
+
+    @property
+    def seams(self):
+        """:class:`lab.grids.Seams` of the rectangle the patches tile: which of its edges meet (periodic
+        surfaces) or collapse to a point (a sphere's poles), from the surface; meshes weld them by index."""
+        return self._seams
 
     def _reset(self):
         self._size = None
@@ -185,25 +248,37 @@ class BezierPatches:
     def __iter__(self):
         return (BezierPatch(self, i) for i in range(len(self)))
 
-    def refine(self, num=1):
+    def refine(self, num=1, *, memory_limit=None):
         """Replace every patch by its four halves (de Casteljau at u = v = 1/2), ``num`` times.
 
         Afterwards there are ``4**num`` times as many patches; stored curvature
         and colours are cleared.  Returns ``self``.
+
+        The memory needed is estimated first (:meth:`refine_bytes`) and the
+        call refused with a ``ValueError`` above ``memory_limit`` (default:
+        :func:`lab.memory_limit`, a share of the available memory), so that
+        ``refine(14)`` says so instead of taking the machine down.  All levels
+        are done patch by patch in one pass, the descendants written straight
+        into one new array (:func:`_refine`), so the time and the memory per
+        patch do not grow with the number of patches.
         """
         num = _v.as_positive_int(num, "num", minimum=0)
-        for _ in range(num):
-            children, w = bezier.subdivide(self._P, 0.5, 0.5, self._w)  # (N, 2, 2, ...)
-            if self._grid is not None:
-                # keep the row-major grid: child (a, b) of patch (i, j) goes to (2i + a, 2j + b)
-                rows, cols = self._grid
-                children = _grid_order(children, rows, cols)
-                w = None if w is None else _grid_order(w, rows, cols)
-                self._grid = (2 * rows, 2 * cols)
-            self._P = children.reshape((-1,) + self._P.shape[1:])
-            self._w = None if w is None else w.reshape((-1,) + self._w.shape[1:])
+        n_final = len(self) * 4**num
+        _v.check_memory(self.refine_bytes(num), f"refine({num}) of {len(self)} patches ({n_final} patches)",
+                        memory_limit)
+        if num:
+            self._P, self._w, self._grid = _refine(self._P, self._w, self._grid, num)
         self._reset()
         return self
+
+    def refine_bytes(self, num):
+        """Estimated peak memory of :meth:`refine` ``(num)``, in bytes: the new nets and the cleared curvature
+        and colours of the result, the old nets, and the temporaries of one chunk."""
+        num = _v.as_positive_int(num, "num", minimum=0)
+        per_patch = self._P[0].nbytes + (0 if self._w is None else self._w[0].nbytes)
+        n_final = len(self) * 4**num
+        chunk = max(PATCH_CHUNK, 4**num) * 16 * per_patch if num else 0
+        return n_final * (per_patch + PATCH_RESULT_BYTES) + len(self) * per_patch + chunk
 
     def visualize_curvature(self, curvature_mode, color_map, **options):
         """Compute the curvature at every corner and colour it (the practical's task, reference solution).
@@ -211,7 +286,9 @@ class BezierPatches:
         For each patch: derivatives at the corners from the forward-difference
         nets, the chosen curvature from the fundamental forms, stored with
         ``set_curvature``; then the colour map over all corner values, stored
-        with ``set_colors``.  Done for all patches at once.
+        with ``set_colors``.  Done for all patches at once, :data:`PATCH_CHUNK`
+        patches at a time (so the time and the extra memory per patch stay
+        constant however many patches there are).
 
         Parameters
         ----------
@@ -225,11 +302,11 @@ class BezierPatches:
         **options
             Passed to the colour map, e.g. ``vmin``, ``vmax`` for :func:`lab.colormaps.dill`.
         """
-        values = curvature_values(self.corner_curvature(), curvature_mode)
-        self.curvature[...] = values
-        self.colors[...] = colors_for(
-            values, self._color_map_name(color_map), tol=zero_tolerance(curvature_mode, self.size), **options
-        )
+        curvature_mode = _curv.as_mode(curvature_mode)
+        name = self._color_map_name(color_map)
+        for sl, curv in self._corner_curvature_chunks():
+            self.curvature[sl] = curvature_values(curv, curvature_mode)
+        colors_for(self.curvature, name, tol=zero_tolerance(curvature_mode, self.size), out=self.colors, **options)
 
     # -- vectorised helpers -------------------------------------------------------
 
@@ -243,30 +320,41 @@ class BezierPatches:
     def size(self):
         """Diagonal of the bounding box of the patch corners (the model's length scale; cached)."""
         if self._size is None:
-            corners = self._P[:, [0, -1]][:, :, [0, -1]].reshape(-1, 3)
-            self._size = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
+            m, n = self.degree
+            corners = self._P[:, :: max(m, 1), :: max(n, 1)]  # a view: the four corner points of every patch
+            self._size = float(np.linalg.norm(corners.max(axis=(0, 1, 2)) - corners.min(axis=(0, 1, 2))))
         return self._size
 
-    def derivatives(self, u, v):
+    def _check_points(self, u, v, per_point, what, memory_limit):
+        """Check the parameters and that ``N`` patches times their points fit in the memory limit."""
+        u, v = _v.as_parameters(u, v, ((0.0, 1.0), (0.0, 1.0)))
+        _v.check_memory(per_point * len(self) * u.size, f"{what} of {len(self)} patches at {u.size} points each",
+                        memory_limit)
+        return u, v
+
+    def derivatives(self, u, v, *, memory_limit=None):
         """Derivatives of every patch at the points ``(u, v)``; fields of shape ``(N,) + S + (3,)``."""
+        u, v = self._check_points(u, v, 400, "derivatives", memory_limit)
         return bezier.derivatives(self._P, u, v, self._w)
 
-    def evaluate(self, u, v):
+    def evaluate(self, u, v, *, memory_limit=None):
         """Points of every patch at ``(u, v)``, shape ``(N,) + S + (3,)``."""
+        u, v = self._check_points(u, v, 100, "points", memory_limit)
         return bezier.evaluate(self._P, u, v, self._w)
 
-    def curvature_at(self, u, v):
+    def curvature_at(self, u, v, *, memory_limit=None):
         """Exact curvature of every patch at the points ``(u, v)`` (shape ``(N,) + S``).
 
         Degenerate points get the limit from inside the patch (see
         :func:`lab.curvature.fill_degenerate`).
         """
-        u, v = _v.as_parameters(u, v, ((0.0, 1.0), (0.0, 1.0)))
-        return self._with_limits(_curv.from_derivatives(self.derivatives(u, v)), u, v)
+        u, v = self._check_points(u, v, 800, "curvature", memory_limit)
+        return self._with_limits(_curv.from_derivatives(bezier.derivatives(self._P, u, v, self._w)), u, v)
 
-    def _with_limits(self, curv, u, v):
-        """Replace values at degenerate points by their limits from inside the patch."""
-        P, w = self._P, self._w
+    def _with_limits(self, curv, u, v, patches=slice(None)):
+        """Replace values at degenerate points by their limits from inside the patch (of ``self[patches]``)."""
+        P = self._P[patches]
+        w = None if self._w is None else self._w[patches]
 
         def derivatives_at(index, uu, vv):
             wk = None if w is None else w[index[0]]
@@ -274,22 +362,38 @@ class BezierPatches:
 
         return _curv.with_limits(curv, u, v, (0.5, 0.5), derivatives_at)
 
-    def corner_derivatives(self):
+    def corner_derivatives(self, patches=slice(None)):
         """Derivatives at the four corners of every patch, fields ``(N, 2, 2, 3)`` indexed ``[patch, u, v]``.
 
         Read off the corners of the forward-difference nets
         (:func:`lab.bezier.corner_derivatives`), as in the practical's figure 3.
+        ``patches`` (a slice) restricts it to some patches.
         """
-        D = Derivatives(*bezier._corner_values(bezier.homogeneous(self._P, self._w)))  # nets checked on entry
-        return D if self._w is None else from_homogeneous(D)
+        w = None if self._w is None else self._w[patches]
+        D = Derivatives(*bezier._corner_values(bezier.homogeneous(self._P[patches], w)))  # nets checked on entry
+        return D if w is None else from_homogeneous(D)
 
     def corner_curvature(self, derivatives=None):
         """Exact curvature at the four corners of every patch, fields of shape ``(N, 2, 2)`` indexed ``[patch, u, v]``.
 
         ``derivatives`` may pass in :meth:`corner_derivatives` when the caller already has them.
         """
-        D = self.corner_derivatives() if derivatives is None else derivatives
-        return self._with_limits(_curv.from_derivatives(D), CORNER_U, CORNER_V)
+        if derivatives is not None:
+            return self._with_limits(_curv.from_derivatives(derivatives), CORNER_U, CORNER_V)
+        out = None
+        for sl, curv in self._corner_curvature_chunks():
+            if out is None:
+                out = [np.empty((len(self),) + np.shape(x)[1:], dtype=np.asarray(x).dtype) for x in curv]
+            for o, x in zip(out, curv):
+                o[sl] = x
+        return _curv.Curvature(*out)
+
+    def _corner_curvature_chunks(self):
+        """``(slice, Curvature)`` of the corners of :data:`PATCH_CHUNK` patches at a time."""
+        for start in range(0, max(len(self), 1), PATCH_CHUNK):
+            sl = slice(start, min(start + PATCH_CHUNK, len(self)))
+            curv = _curv.from_derivatives(self.corner_derivatives(sl))
+            yield sl, self._with_limits(curv, CORNER_U, CORNER_V, sl)
 
     # -- output -------------------------------------------------------------------
 
@@ -320,6 +424,7 @@ class BezierPatches:
         new.colors = self.colors.copy()
         new._size = self._size
         new._grid = self._grid
+        new._seams = self._seams
         return new
 
     def __repr__(self):

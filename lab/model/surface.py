@@ -11,6 +11,8 @@ import numpy as np
 
 from ..geometry import bezier, bspline
 from ..geometry import curvature as _curv
+from ..geometry import tensor as _tensor
+from ..geometry.grids import Seams
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
 from .patches import BezierPatches
@@ -19,7 +21,16 @@ __all__ = ["Surface", "BezierSurface", "BSplineSurface", "ParametricSurface"]
 
 
 class Surface:
-    """Base class: everything follows from :meth:`derivatives` and :attr:`domain`."""
+    """Base class: everything follows from :meth:`derivatives` and :attr:`domain`.
+
+    Evaluation runs in chunks of :data:`lab.tensor.CHUNK` points (see
+    :mod:`lab.tensor`), so the temporary memory of :meth:`curvature`,
+    :meth:`derivatives` and :meth:`evaluate` is bounded by the chunk size.
+    When ``u`` and ``v`` form a grid (``np.meshgrid`` with either indexing,
+    or an open grid such as ``u[:, None], v[None, :]``) the separable path of
+    :meth:`curvature_grid` is taken by itself; spline surfaces evaluate their
+    basis functions there once per u and once per v.
+    """
 
     #: ((u_min, u_max), (v_min, v_max))
     domain = ((0.0, 1.0), (0.0, 1.0))
@@ -27,22 +38,110 @@ class Surface:
     #: so that paths on it may wrap around (torus, sphere in u, cylinder in u).
     periodic = (False, False)
 
+    #: Bytes per point that curvature, derivatives and meshes plan for (results and parameter copies).
+    BYTES_PER_POINT = {"curvature": 80, "derivatives": 200}
+
     def _derivatives(self, u, v):  # pragma: no cover - abstract
+        """Derivatives at checked parameters of any (equal) shape."""
         raise NotImplementedError
+
+    def _defining(self):
+        """The objects that define the surface (a cached result is rebuilt when one of them is replaced)."""
+        return (self.domain, self.periodic)
+
+    def cached(self, name, build):
+        """``build()``, computed once per surface and kept (evaluators, meshes for path finding).
+
+        Surfaces are values: a result is rebuilt when an attribute that defines
+        the surface (control points, knots, weights, domain, periodicity) is
+        replaced, not when an array is changed in place; make a new surface
+        to change one.
+        """
+        defining = self._defining()
+        key = tuple(x if isinstance(x, tuple) else id(x) for x in defining)
+        cache = self.__dict__.setdefault("_cache", {})
+        entry = cache.get(name)
+        if entry is None or entry[0] != key:
+            entry = cache[name] = (key, defining, build())  # keeping the objects keeps their ids unique
+        return entry[2]
+
+    def _point_derivatives(self, u, v, work=None):
+        """Derivatives at the flat parameters of one chunk, fields ``(k, 3)`` (spline surfaces override it)."""
+        return self._derivatives(u, v)
+
+    def _grid_blocks(self, u, v):
+        """Blocks ``(rows, cols, Derivatives)`` of the grid ``u`` × ``v`` (spline surfaces override it)."""
+        return _tensor.point_blocks(self._point_derivatives, u, v)
+
+    def sample(self, func, u, v, *, grid=None, memory_limit=None, bytes_per_point=None):
+        """Apply ``func`` to the derivatives at ``(u, v)`` chunk by chunk and assemble its outputs.
+
+        Parameters
+        ----------
+        func : callable
+            ``func(D)`` gets a :class:`~lab.derivatives.Derivatives` of one chunk
+            (fields ``batch + (3,)``) and returns a tuple of arrays of shape ``batch + (...)``.
+        u, v : array_like
+            Parameters, broadcast against each other; or, with ``grid=True``,
+            the two 1-D sides of a grid.
+        grid : bool, optional
+            True: ``u`` and ``v`` are the sides of a grid and the outputs have
+            shape ``(len(u), len(v), ...)``.  None (default): detect a grid in
+            broadcast 2-D parameters (see the class docstring).
+        memory_limit : int or str, optional
+            Refuse (``ValueError``) when the estimated memory exceeds it (default: :func:`lab.memory_limit`).
+        bytes_per_point : int, optional
+            The estimate per point (default: that of :meth:`derivatives`).
+
+        Returns
+        -------
+        u, v : ndarray
+            The checked parameters, broadcastable to the output shape.
+        outputs : list of ndarray
+        """
+        per_point = self.BYTES_PER_POINT["derivatives"] if bytes_per_point is None else bytes_per_point
+        if grid is None:
+            found = _tensor.as_grid(u, v)
+            if found is not None:
+                uu, vv, transposed = found
+                u_out, v_out, outputs = self.sample(func, uu, vv, grid=True, memory_limit=memory_limit,
+                                                    bytes_per_point=bytes_per_point)
+                if transposed:
+                    return v_out.T, u_out.T, [np.swapaxes(o, 0, 1) for o in outputs]
+                return u_out, v_out, outputs
+        if grid:
+            (lo_u, lo_v) = self.domain
+            u = _v.as_parameter_vector(u, lo_u, "u")
+            v = _v.as_parameter_vector(v, lo_v, "v")
+            n = u.size * v.size
+            _v.check_memory(n * per_point, f"evaluating the surface on a {u.size} x {v.size} grid", memory_limit)
+            if n:
+                outputs = _tensor.map_grid(self._grid_blocks(u, v), func, (u.size, v.size))
+                return u[:, None], v[None, :], outputs
+            u, v = np.broadcast_arrays(u[:, None], v[None, :])
+        else:
+            u, v = _v.as_parameters(u, v, self.domain)
+            _v.check_memory(u.size * per_point, f"evaluating the surface at {u.size} points", memory_limit)
+        return u, v, self._map_points(func, u, v)
+
+    def _map_points(self, func, u, v):
+        """``func`` applied chunk by chunk to the derivatives at the checked points ``u``, ``v`` (equal shapes)."""
+        return _tensor.map_points(self._point_derivatives, func, u, v)
 
     def derivatives(self, u, v):
         """Point and partial derivatives ``b, bu, bv, buu, buv, bvv`` (shape ``broadcast(u, v).shape + (3,)``)."""
-        u, v = _v.as_parameters(u, v, self.domain)
-        return self._derivatives(u, v)
+        _, _, fields = self.sample(tuple, u, v)
+        return Derivatives(*fields)
 
     def evaluate(self, u, v):
         """Surface points, shape ``broadcast(u, v).shape + (3,)``."""
-        return self.derivatives(u, v).b
+        _, _, (b,) = self.sample(lambda d: (d.b,), u, v, bytes_per_point=60)
+        return b
 
     def normal(self, u, v):
         """Unit normal ``b_u x b_v / |b_u x b_v|`` (NaN at degenerate points)."""
-        d = self.derivatives(u, v)
-        return _curv.unit_normal(d.bu, d.bv)[0]
+        _, _, (N,) = self.sample(lambda d: (_curv.unit_normal(d.bu, d.bv)[0],), u, v, bytes_per_point=60)
+        return N
 
     def fundamental_forms(self, u, v):
         """First and second fundamental forms, see :func:`lab.curvature.fundamental_forms`."""
@@ -54,31 +153,125 @@ class Surface:
         (u0, u1), (v0, v1) = self.domain
         return 0.5 * (u0 + u1), 0.5 * (v0 + v1)
 
-    def curvature(self, u, v):
+    def curvature(self, u, v, *, memory_limit=None):
         """Gaussian, mean and principal curvatures (see :mod:`lab.curvature`).
 
         At degenerate points (``b_u x b_v = 0``) the values are the limits
         approached from inside the domain, the ``degenerate`` mask is set and a
-        :class:`~lab.curvature.DegeneratePointWarning` is issued.
+        :class:`~lab.curvature.DegeneratePointWarning` is issued.  Grids take
+        the separable path of :meth:`curvature_grid` (see the class docstring).
 
         Returns
         -------
         Curvature
             Fields ``K, H, k1, k2, degenerate`` of shape ``broadcast(u, v).shape``.
         """
-        u, v = _v.as_parameters(u, v, self.domain)
-        curv = _curv.from_derivatives(self._derivatives(u, v))
+        return self._curvature(u, v, None, memory_limit)
+
+    def curvature_grid(self, u, v, *, memory_limit=None):
+        """Curvature on the grid ``u`` × ``v`` (1-D arrays): fields of shape ``(len(u), len(v))``.
+
+        The same values as ``curvature(*np.meshgrid(u, v, indexing="ij"))``;
+        spline surfaces evaluate their basis functions once per u and once per v
+        and gather the control points once per pair of knot spans.
+        """
+        return self._curvature(u, v, True, memory_limit)
+
+    def _curvature(self, u, v, grid, memory_limit):
+        u, v, fields = self.sample(_curv.from_derivatives, u, v, grid=grid, memory_limit=memory_limit,
+                                   bytes_per_point=self.BYTES_PER_POINT["curvature"])
+        curv = _curv.Curvature(*fields)
         return _curv.with_limits(curv, u, v, self.centre, lambda index, uu, vv: self._derivatives(uu, vv))
 
-    def grid(self, nu, nv):
+    def sample_grid(self, u, v, *, memory_limit=None):
+        """Points, unit normals and curvature on the grid ``u`` × ``v`` in one pass (what a mesh needs).
+
+        Returns
+        -------
+        b : ndarray, shape ``(len(u), len(v), 3)``
+        N : ndarray, shape ``(len(u), len(v), 3)``
+            ``b_u x b_v / |b_u x b_v|``, NaN at degenerate points.
+        curvature : Curvature
+            As :meth:`curvature_grid`, degenerate points filled with their limits.
+        """
+        def fields(d):
+            N, _ = _curv.unit_normal(d.bu, d.bv)
+            return (d.b, N, *_curv.from_derivatives(d))
+
+        u, v, (b, N, *curv) = self.sample(fields, u, v, grid=True, memory_limit=memory_limit,
+                                          bytes_per_point=self.BYTES_PER_POINT["curvature"] + 48)
+        curv = _curv.with_limits(_curv.Curvature(*curv), u, v, self.centre,
+                                 lambda index, uu, vv: self._derivatives(uu, vv))
+        return b, N, curv
+
+    @property
+    def seams(self):
+        """Where the surface closes on itself or collapses: a :class:`lab.grids.Seams`.
+
+        ``periodic`` is :attr:`periodic`; an edge counts as collapsed when the
+        surface evaluated at 17 parameters along it gives one point exactly
+        (spline surfaces look at their control points instead, see there).
+        Meshes weld their grid nodes by these indices, never by distance.
+        """
+        collapsed = []
+        for axis in (0, 1):
+            ends = []
+            for end in self.domain[axis]:
+                t = np.linspace(*self.domain[1 - axis], 17)
+                u, v = (np.full_like(t, end), t) if axis == 0 else (t, np.full_like(t, end))
+                points = self._derivatives(u, v).b
+                ends.append(bool(np.all(points == points[:1])))
+            collapsed.append(tuple(ends))
+        return Seams(tuple(bool(p) for p in self.periodic), tuple(collapsed))
+
+    def grid(self, nu, nv, *, memory_limit=None):
         """Parameter grid ``(u, v)`` of shape ``(nu, nv)`` covering the domain, ends included."""
         nu = _v.as_positive_int(nu, "nu", minimum=2)
         nv = _v.as_positive_int(nv, "nv", minimum=2)
+        _v.check_memory(16 * nu * nv, f"a {nu} x {nv} parameter grid", memory_limit)
         (u0, u1), (v0, v1) = self.domain
         return np.meshgrid(np.linspace(u0, u1, nu), np.linspace(v0, v1, nv), indexing="ij")
 
 
-class BezierSurface(Surface):
+class _SplineSurface(Surface):
+    """Shared evaluation of Bézier and B-spline surfaces: the chunked tensor-product paths of :mod:`lab.tensor`."""
+
+    def _spline_args(self):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _defining(self):
+        return self._spline_args() + (self.domain, self.periodic)
+
+    def _spline(self):
+        """The :class:`lab.tensor.Spline` of this surface, built once."""
+        return self.cached("spline", lambda: _tensor.spline(*self._spline_args()))
+
+    def _point_derivatives(self, u, v, work=None):
+        return _tensor.point_derivatives(self._spline(), u, v, work)
+
+    def _grid_blocks(self, u, v):
+        return _tensor.grid_blocks(self._spline(), u, v)
+
+    def _map_points(self, func, u, v):
+        return _tensor.map_spline_points(self._spline(), func, u, v)
+
+    @property
+    def seams(self):
+        """As :attr:`Surface.seams`; an edge counts as collapsed when the knots are clamped there and the
+        control points of the edge's row are all the same point (then the edge, a spline curve of that row, is it)."""
+        P, knots_u, knots_v, p, q, _ = self._spline_args()
+        collapsed = []
+        for axis, (knots, degree) in enumerate(((knots_u, p), (knots_v, q))):
+            rows = (P[0], P[-1]) if axis == 0 else (P[:, 0], P[:, -1])
+            clamped = (np.all(knots[: degree + 1] == knots[0]), np.all(knots[-degree - 1 :] == knots[-1]))
+            collapsed.append(tuple(bool(c and np.all(r == r[:1])) for c, r in zip(clamped, rows)))
+        return Seams(tuple(bool(x) for x in self.periodic), tuple(collapsed))
+
+    def _derivatives(self, u, v):
+        return Derivatives(*_tensor.map_points(self._point_derivatives, tuple, u, v))
+
+
+class BezierSurface(_SplineSurface):
     r"""A tensor-product (rational) Bézier patch over ``[0, 1]^2``.
 
     Parameters
@@ -98,8 +291,11 @@ class BezierSurface(Surface):
         """Degrees ``(m, n)`` in u and v."""
         return self.control_points.shape[0] - 1, self.control_points.shape[1] - 1
 
-    def _derivatives(self, u, v):
-        return bezier.derivatives(self.control_points, u, v, self.weights)
+    def _spline_args(self):
+        m, n = self.degree
+        if getattr(self, "_bezier_knots", (None,))[0] != (m, n):  # a Bézier patch is a spline with one span
+            self._bezier_knots = ((m, n), np.repeat([0.0, 1.0], m + 1), np.repeat([0.0, 1.0], n + 1))
+        return self.control_points, self._bezier_knots[1], self._bezier_knots[2], m, n, self.weights
 
     def swap_uv(self):
         """The same patch with u and v exchanged: the orientation (and the sign of H) flips (practical 2.2)."""
@@ -109,14 +305,14 @@ class BezierSurface(Surface):
     def to_bezier_patches(self):
         """A :class:`lab.BezierPatches` holding this one patch."""
         w = None if self.weights is None else self.weights[None]
-        return BezierPatches(self.control_points[None], w, grid_shape=(1, 1))
+        return BezierPatches(self.control_points[None], w, grid_shape=(1, 1), seams=self.seams)
 
     def __repr__(self):
         kind = "rational " if self.weights is not None else ""
         return f"BezierSurface({kind}degree {self.degree})"
 
 
-class BSplineSurface(Surface):
+class BSplineSurface(_SplineSurface):
     """A tensor-product B-spline or NURBS surface.
 
     Parameters
@@ -146,8 +342,8 @@ class BSplineSurface(Surface):
     def _args(self):
         return (self.control_points, self.knots_u, self.knots_v, *self.degree)
 
-    def _derivatives(self, u, v):
-        return bspline.derivatives(*self._args(), u, v, self.weights)
+    def _spline_args(self):
+        return (*self._args(), self.weights)
 
     def insert_knot(self, t, direction="u", times=1):
         """A new surface with the knot ``t`` inserted ``times`` times in ``direction`` ('u' or 'v')."""
@@ -175,7 +371,7 @@ class BSplineSurface(Surface):
         """One Bézier patch per non-empty knot span, as a :class:`lab.BezierPatches` (practical, section 5)."""
         nets, w, iu, iv = self.bezier_nets()
         flat_w = None if w is None else w.reshape((-1,) + w.shape[2:])
-        return BezierPatches(nets.reshape((-1,) + nets.shape[2:]), flat_w, grid_shape=nets.shape[:2])
+        return BezierPatches(nets.reshape((-1,) + nets.shape[2:]), flat_w, grid_shape=nets.shape[:2], seams=self.seams)
 
     def __repr__(self):
         kind = "NURBS" if self.weights is not None else "B-spline"
@@ -251,6 +447,9 @@ class ParametricSurface(Surface):
 
     def _derivatives(self, u, v):
         return self._func(u, v)
+
+    def _defining(self):
+        return (self._func, self.domain, self.periodic)
 
     def __repr__(self):
         return f"ParametricSurface({self.name}, domain={self.domain})"

@@ -120,6 +120,12 @@ def _rms(x):
     return np.sqrt(np.mean(x * x, axis=1))
 
 
+def _combine(weights, K):
+    """``sum_s weights[s] K[s]`` for stages ``K`` (s, n, m): one matrix-vector product (BLAS) instead of einsum."""
+    s = len(weights)
+    return (weights @ K[:s].reshape(s, -1)).reshape(K.shape[1:])
+
+
 def _initial_step(problem, y0, cell, f0, length, D, rtol, atol):
     """:func:`scipy.integrate._ivp.common.select_initial_step` (Hairer, Nørsett, Wanner II.4) for every path at once.
 
@@ -204,15 +210,15 @@ def _integrate_fan(problem, y0, cell0, length, D, rtol, atol):
         K = np.empty((_N_STAGES + 1, len(idx), m))
         K[0] = fi
         for s in range(1, _N_STAGES):
-            dy = np.einsum("skm,s->km", K[:s], _A[s, :s]) * h[:, None]
+            dy = _combine(_A[s, :s], K) * h[:, None]
             K[s] = problem.rhs(yi + dy, ci, Dk)
-        y_new = yi + h[:, None] * np.einsum("skm,s->km", K[:-1], _B)
+        y_new = yi + h[:, None] * _combine(_B, K)
         f_new, g2_new = problem.rhs(y_new, ci, Dk, regular=True)
         K[-1] = f_new
         scale = atol + np.maximum(np.abs(yi), np.abs(y_new)) * rtol
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            e5 = np.sum((np.einsum("skm,s->km", K, _E5) / scale) ** 2, axis=1)
-            e3 = np.sum((np.einsum("skm,s->km", K, _E3) / scale) ** 2, axis=1)
+            e5 = np.sum((_combine(_E5, K) / scale) ** 2, axis=1)
+            e3 = np.sum((_combine(_E3, K) / scale) ** 2, axis=1)
             err = np.where((e5 == 0) & (e3 == 0), 0.0, ha * e5 / np.sqrt((e5 + 0.01 * e3) * m))
             grow = _SAFETY * err**_ERR_EXP
         ok = err < 1
@@ -230,14 +236,14 @@ def _integrate_fan(problem, y0, cell0, length, D, rtol, atol):
         Kx = np.empty((_N_STAGES + 4, len(a), m))
         Kx[: _N_STAGES + 1] = K[:, a]
         for s, (arow, c) in enumerate(zip(_A_EXTRA, _C_EXTRA), start=_N_STAGES + 1):
-            dy = np.einsum("skm,s->km", Kx[:s], arow[:s]) * ha_[:, None]
+            dy = _combine(arow[:s], Kx) * ha_[:, None]
             Kx[s] = problem.rhs(ya_old + dy, ca, Da)
         delta = ya_new - ya_old
         F = np.empty((len(a), 7, m))
         F[:, 0] = delta
         F[:, 1] = ha_[:, None] * K[0, a] - delta
         F[:, 2] = 2 * delta - ha_[:, None] * (K[-1, a] + K[0, a])
-        F[:, 3:] = ha_[:, None, None] * np.einsum("ps,skm->kpm", _Dd, Kx)
+        F[:, 3:] = ha_[:, None, None] * (_Dd @ Kx.reshape(len(Kx), -1)).reshape((len(_Dd),) + Kx.shape[1:]).swapaxes(0, 1)
         # events as solve_ivp finds them: a sign change from >= 0 to <= 0 over the step (direction -1),
         # its root by Brent's method on the dense output; the earlier of the two terminates the path
         g1_new, g2_new = problem.gap(ya_new, ca), g2_new[a]

@@ -69,11 +69,14 @@ from .problem import (
     _check_tolerances,
     _direction,
     _fmt,
-    _Problem,
+    _problem,
     _regular_derivatives,
 )
 
 __all__ = ["Fan", "Path", "geodesic", "geodesic_fan", "normal_section", "normal_section_fan"]
+
+#: Memory a path plans for: per sample (parameters, point, tangent) and for the solver's steps (dense output).
+PATH_BYTES_PER_SAMPLE, PATH_BYTES = 80, 100_000
 
 
 # --------------------------------------------------------------------------- results
@@ -210,9 +213,11 @@ def _prepare(surface, uv, angles, length, kind, rtol, atol, n_samples):
     L = _check_length(length)
     rtol, atol = _check_tolerances(rtol, atol)
     n_samples = _v.as_positive_int(n_samples, "n_samples", minimum=2)
+    _v.check_memory(len(angles) * (PATH_BYTES_PER_SAMPLE * n_samples + PATH_BYTES), (
+        f"{len(angles)} {kind}(s) of {n_samples} samples each"))
     d = _regular_derivatives(surface, u0, v0, "start point")
     n, duv = _direction(d, angles)  # (k, 3), (k, 2)
-    problem = _Problem(surface, kind)
+    problem = _problem(surface, kind)
     k = len(angles)
     start = np.tile([u0, v0], (k, 1))
     if kind == GEODESIC:

@@ -12,7 +12,7 @@ import numpy as np
 from ...geometry import bezier
 from ...geometry.curvature import unit_normal
 from ...geometry.derivatives import Derivatives, from_homogeneous
-from ...model.surface import BezierSurface, BSplineSurface, Surface
+from ...model.surface import BezierSurface, BSplineSurface, Surface, _SplineSurface
 
 __all__ = ["ATOL", "RTOL", "christoffel", "start_direction"]
 
@@ -65,6 +65,9 @@ def christoffel(d):
         \Gamma^1_{22} &= (2G F_v - G G_u - F G_v)/(2\det\mathbf G), &
         \Gamma^2_{22} &= (E G_v - 2F F_v + F G_u)/(2\det\mathbf G).
 
+    Computed in the equivalent form :math:`\Gamma^k_{ij} = g^{kl}\,(\mathbf x_{ij}\cdot\mathbf x_l)`,
+    in which the terms that cancel above are left out (see :func:`_second_kind`).
+
     Parameters
     ----------
     d : Derivatives
@@ -76,30 +79,41 @@ def christoffel(d):
         ``Gamma[..., k, i, j]`` is :math:`\Gamma^{k+1}_{i+1\,j+1}` (symmetric in i, j);
         infinite or NaN at degenerate points (EG - F² = 0).
     """
-    g111, g112, g122, g211, g212, g222 = _christoffel_symbols(d)
-    first = np.stack([np.stack([g111, g112], -1), np.stack([g112, g122], -1)], -2)
-    second = np.stack([np.stack([g211, g212], -1), np.stack([g212, g222], -1)], -2)
+    Gamma = _second_kind(d)  # (..., 3, 2): [ij = 11, 12, 22; k]
+    first = np.stack([Gamma[..., 0:2, 0], Gamma[..., 1:3, 0]], -2)
+    second = np.stack([Gamma[..., 0:2, 1], Gamma[..., 1:3, 1]], -2)
     return np.stack([first, second], -3)
 
 
 def _christoffel_symbols(d):
     """The six distinct symbols Γ¹₁₁, Γ¹₁₂, Γ¹₂₂, Γ²₁₁, Γ²₁₂, Γ²₂₂ (see :func:`christoffel`)."""
-    V = np.stack(np.broadcast_arrays(d.bu, d.bv, d.buu, d.buv, d.bvv), axis=-2)  # (..., 5, 3)
-    M = np.einsum("...id,...jd->...ij", V, V)  # all dot products at once
-    E, F, G = M[..., 0, 0], M[..., 0, 1], M[..., 1, 1]
-    Eu, Ev = 2 * M[..., 0, 2], 2 * M[..., 0, 3]
-    Fu, Fv = M[..., 2, 1] + M[..., 0, 3], M[..., 3, 1] + M[..., 0, 4]
-    Gu, Gv = 2 * M[..., 1, 3], 2 * M[..., 1, 4]
+    Gamma = _second_kind(d)
+    return tuple(Gamma[..., ij, k] for k in range(2) for ij in range(3))
+
+
+def _second_kind(d):
+    r"""Christoffel symbols of the second kind as an array ``(..., 3, 2)``: ``[..., ij, k]`` for ij = 11, 12, 22.
+
+    Computed as :math:`\Gamma^k_{ij} = g^{kl}\,\Gamma_{l,ij}` from those of the first kind,
+    :math:`\Gamma_{l,ij} = \mathbf x_{ij}\cdot\mathbf x_l` (Struik, chapter 4): the formulas of
+    :func:`christoffel` with the derivatives of E, F, G written out and the terms that cancel
+    left out, so two small matrix products for all points.
+    """
+    fields = (d.bu, d.bv, d.buu, d.buv, d.bvv)
+    if any(np.shape(x) != np.shape(d.bu) for x in fields):
+        fields = np.broadcast_arrays(*fields)
+    return _second_kind_of(np.stack(fields, axis=-2))
+
+
+def _second_kind_of(V):
+    """:func:`_second_kind` from the stacked vectors ``V = (x_u, x_v, x_uu, x_uv, x_vv)``, shape ``(..., 5, 3)``."""
+    tangents = V[..., :2, :]
+    g = tangents @ np.swapaxes(tangents, -1, -2)  # (..., 2, 2): E, F; F, G
+    first = V[..., 2:, :] @ np.swapaxes(tangents, -1, -2)  # (..., 3, 2): x_ij . x_l
+    E, F, G = g[..., 0, 0], g[..., 0, 1], g[..., 1, 1]
     with np.errstate(divide="ignore", invalid="ignore"):
-        inv = 0.5 / (E * G - F * F)
-        return (
-            (G * Eu - 2 * F * Fu + F * Ev) * inv,
-            (G * Ev - F * Gu) * inv,
-            (2 * G * Fv - G * Gu - F * Gv) * inv,
-            (2 * E * Fu - E * Ev - F * Eu) * inv,
-            (E * Gu - F * Ev) * inv,
-            (E * Gv - 2 * F * Fv + F * Gu) * inv,
-        )
+        inverse = np.stack([np.stack([G, -F], -1), np.stack([-F, E], -1)], -2) / (E * G - F * F)[..., None, None]
+    return first @ inverse
 
 
 def _frame(d):
@@ -157,13 +171,37 @@ def _direction(d, alpha):
 
 def _geodesic_rhs(d, y):
     """Eq. 11 for states ``y = (u, v, u', v')`` of shape (k, 4) with derivatives d at (u, v)."""
-    g111, g112, g122, g211, g212, g222 = _christoffel_symbols(d)
+    return _geodesic_rhs_of(_second_kind(d), y)
+
+
+def _geodesic_rhs_of(Gamma, y):
+    """Eq. 11 from the Christoffel symbols ``Gamma`` (k, 3, 2) of :func:`_second_kind`."""
     p, q = y[:, 2], y[:, 3]
-    pp, pq, qq = p * p, 2 * p * q, q * q
+    w = np.stack([p * p, 2 * p * q, q * q], axis=-1)[:, None, :]  # (k, 1, 3)
     out = np.empty_like(y)
     out[:, :2] = y[:, 2:4]
-    out[:, 2] = -(g111 * pp + g112 * pq + g122 * qq)
-    out[:, 3] = -(g211 * pp + g212 * pq + g222 * qq)
+    out[:, 2:] = -(w @ Gamma)[:, 0]
+    return out
+
+
+def _geodesic_rhs_fast(V, y):
+    r"""Eq. 11 from the stacked vectors ``V = (x_u, x_v, x_uu, x_uv, x_vv)`` (k, 5, 3), in few array operations.
+
+    :math:`(u'', v'') = -g^{-1} h` with :math:`h_l = \sum_{ij} \Gamma_{l,ij}\, u'^i u'^j`, the symbols
+    of the first kind contracted with the velocity before the metric is inverted:
+    the same as :func:`_geodesic_rhs`, with fewer operations per evaluation.
+    """
+    tangents = V[:, :2]
+    g = tangents @ np.swapaxes(tangents, -1, -2)  # (k, 2, 2)
+    p, q = y[:, 2], y[:, 3]
+    w = np.stack([p * p, 2 * p * q, q * q], axis=-1)[:, None, :]  # (k, 1, 3)
+    h = ((w @ V[:, 2:]) @ np.swapaxes(tangents, -1, -2))[:, 0]  # (k, 2): sum_ij w_ij x_ij . x_l
+    E, F, G = g[:, 0, 0], g[:, 0, 1], g[:, 1, 1]
+    det = E * G - F * F
+    out = np.empty_like(y)
+    out[:, :2] = y[:, 2:4]
+    out[:, 2] = (F * h[:, 1] - G * h[:, 0]) / det
+    out[:, 3] = (F * h[:, 0] - E * h[:, 1]) / det
     return out
 
 
@@ -212,19 +250,46 @@ class _PatchEvaluator:
     @staticmethod
     def _basis(x, k, inv_width):
         """Rows (x^k, d/du x^k, d²/du² x^k) for local parameters x: shape (n, 3, len(k))."""
-        x = x[:, None]
-        out = np.zeros((len(x), 3, len(k)))
-        out[:, 0] = x**k
-        out[:, 1, 1:] = k[1:] * out[:, 0, :-1] * inv_width[:, None]
-        out[:, 2, 2:] = k[2:] * (k[2:] - 1) * out[:, 0, :-2] * (inv_width**2)[:, None]
+        n, m = len(x), len(k)
+        out = np.zeros((n, 3, m))
+        powers = out[:, 0]
+        powers[:, 0] = 1.0
+        if m > 1:
+            powers[:, 1:] = x[:, None]
+            np.cumprod(powers, axis=1, out=powers)  # x^0, x^1, ..., x^p without pow()
+        out[:, 1, 1:] = k[1:] * powers[:, :-1] * inv_width[:, None]
+        out[:, 2, 2:] = k[2:] * (k[2:] - 1) * powers[:, :-2] * (inv_width * inv_width)[:, None]
         return out
 
+    def table(self, iu, iv, su, sv):
+        """All mixed derivatives up to order 2 in each direction: ``(k, 3, 3, d)``, ``[:, du, dv]`` (homogeneous)."""
+        if len(self.powers[0]) == len(self.powers[1]):  # equal degrees: both directions in one go
+            both = self._basis(np.concatenate([su, sv]), self.powers[0],
+                               np.concatenate([self.inv_widths[0][iu], self.inv_widths[1][iv]]))
+            Su, Sv = both[: len(su)], both[len(su):]
+        else:
+            Su = self._basis(su, self.powers[0], self.inv_widths[0][iu])
+            Sv = self._basis(sv, self.powers[1], self.inv_widths[1][iv])
+        C = self.coeffs[iu, iv]  # (k, p+1, q+1, d)
+        k, p1, q1, d = C.shape
+        T = np.matmul(Su, C.reshape(k, p1, q1 * d)).reshape(k, 3, q1, d)  # over i: (k, du, j, c)
+        return np.matmul(Sv[:, None], T)  # over j: (k, du, dv, c), two batched small products
+
     def __call__(self, iu, iv, su, sv):
-        Su = self._basis(su, self.powers[0], self.inv_widths[0][iu])
-        Sv = self._basis(sv, self.powers[1], self.inv_widths[1][iv])
-        X = np.einsum("kai,kbj,kijd->kabd", Su, Sv, self.coeffs[iu, iv])
+        X = self.table(iu, iv, su, sv)
         d = Derivatives(X[:, 0, 0], X[:, 1, 0], X[:, 0, 1], X[:, 2, 0], X[:, 1, 1], X[:, 0, 2])
         return from_homogeneous(d) if self.rational else d
+
+    def vectors(self, iu, iv, su, sv):
+        """``x_u, x_v, x_uu, x_uv, x_vv`` stacked: ``(k, 5, 3)`` (what the geodesic equation needs)."""
+        if self.rational:
+            d = self(iu, iv, su, sv)
+            return np.stack([d.bu, d.bv, d.buu, d.buv, d.bvv], axis=1)
+        return self.table(iu, iv, su, sv)[:, _VECTOR_DU, _VECTOR_DV]
+
+
+#: (du, dv) of x_u, x_v, x_uu, x_uv, x_vv in a derivative table.
+_VECTOR_DU, _VECTOR_DV = np.array([1, 0, 2, 1, 0]), np.array([0, 1, 0, 1, 2])
 
 
 def _bernstein_to_monomial(n):
@@ -258,11 +323,11 @@ class _Problem:
         self.periodic = tuple(bool(p) for p in surface.periodic)
         self.patches = None
         # the patch polynomials stand in for the surface only where they are its definition
-        own = type(surface)._derivatives
-        if own is BSplineSurface._derivatives:
+        own = type(surface)._derivatives is _SplineSurface._derivatives  # evaluation not overridden
+        if own and isinstance(surface, BSplineSurface):
             nets, w, iu, iv = surface.bezier_nets()
             self.breaks = [_breaks(iu), _breaks(iv)]
-        elif own is BezierSurface._derivatives:
+        elif own and isinstance(surface, BezierSurface):
             nets = surface.control_points[None, None]
             w = None if surface.weights is None else surface.weights[None, None]
             self.breaks = [np.array([u0, u1]), np.array([v0, v1])]
@@ -272,6 +337,7 @@ class _Problem:
         if nets is not None:
             self.patches = _PatchEvaluator(nets, w, np.diff(self.breaks[0]), np.diff(self.breaks[1]))
         self.n_spans = np.array([len(b) - 1 for b in self.breaks])
+        self._bounds_cache = (None, None)
 
     # -- parameters and cells
 
@@ -286,7 +352,28 @@ class _Problem:
         return uv
 
     def cell_bounds(self, cell):
-        """Lower and upper unwrapped parameter of each cell: two (k, 2) arrays."""
+        """Lower and upper unwrapped parameter of each cell: two (k, 2) arrays.
+
+        Remembered for the last cells asked for: the stages of a step all ask for the same cells.
+        """
+        return self._cell_data(cell)[:2]
+
+    def _cell_data(self, cell):
+        """``(lower, upper, span, 1 / width)`` of the cells, remembered for the last cells asked for."""
+        key = (cell.shape, cell.tobytes())
+        cached = self._bounds_cache  # one read: the problem is shared between threads (explorers)
+        if cached[0] == key:
+            return cached[1]
+        lower, upper = self._cell_bounds(cell)
+        span = cell.copy()
+        for axis in range(2):
+            if self.periodic[axis]:
+                span[:, axis] = np.mod(cell[:, axis], self.n_spans[axis])
+        data = (lower, upper, span, 1.0 / (upper - lower))
+        self._bounds_cache = (key, data)
+        return data
+
+    def _cell_bounds(self, cell):
         lower, upper = np.empty(cell.shape), np.empty(cell.shape)
         for axis in range(2):
             S = self.n_spans[axis]
@@ -351,20 +438,17 @@ class _Problem:
 
     def derivatives(self, uv, cell):
         """Surface derivatives at unwrapped parameters ``uv`` (k, 2) using the polynomial of each path's cell."""
-        bad = ~np.all(np.isfinite(uv), axis=1)
         lower, upper = self.cell_bounds(cell)
-        if np.any(bad):  # a failing step: evaluate somewhere harmless, report NaN
+        bad = None if np.isfinite(uv).all() else ~np.all(np.isfinite(uv), axis=1)
+        if bad is not None:  # a failing step: evaluate somewhere harmless, report NaN
             uv = np.where(bad[:, None], 0.5 * (lower + upper), uv)
         if self.patches is not None:
-            span = np.empty_like(cell)
-            for axis in range(2):
-                span[:, axis] = np.mod(cell[:, axis], self.n_spans[axis]) if self.periodic[axis] else cell[:, axis]
-            local = (uv - lower) / (upper - lower)
+            span, local = self._local(uv, cell)
             d = self.patches(span[:, 0], span[:, 1], local[:, 0], local[:, 1])
         else:
             w = self.wrap(uv)
             d = self.surface.derivatives(w[:, 0], w[:, 1])
-        if np.any(bad):
+        if bad is not None:
             d = d.map(lambda x: np.where(bad[:, None], np.nan, x))
         return d
 
@@ -373,9 +457,18 @@ class _Problem:
 
         With ``regular=True`` also the second event function :meth:`regular` at the same points.
         """
+        if self.kind == GEODESIC and not regular and self.patches is not None and np.isfinite(y).all():
+            # the common case, in as few array operations as possible: patch polynomials -> eq. 11
+            span, local = self._local(y[:, :2], cell)
+            return _geodesic_rhs_fast(self.patches.vectors(span[:, 0], span[:, 1], *local.T), y)
         d = self.derivatives(y[:, :2], cell)
         f = _geodesic_rhs(d, y) if self.kind == GEODESIC else _section_rhs(d, D)
         return (f, _regularity(d) - _DEGENERATE_STOP) if regular else f
+
+    def _local(self, uv, cell):
+        """The patch (span index per direction) of each cell and the local parameters in it."""
+        lower, _, span, inv_width = self._cell_data(cell)
+        return span, (uv - lower) * inv_width
 
     def tangent(self, y, D=None):
         """``(du/ds, dv/ds)`` at states ``y`` (k, m), evaluated with the public surface derivatives."""
@@ -383,6 +476,12 @@ class _Problem:
             return y[:, 2:4].copy()
         w = self.wrap(y[:, :2])
         return _section_rhs(self.surface.derivatives(w[:, 0], w[:, 1]), D)
+
+
+def _problem(surface, kind):
+    """The :class:`_Problem` of ``surface`` for paths of ``kind``, built once per surface and reused
+    (its patch polynomials cost a knot insertion per knot; see :meth:`lab.Surface.cached`)."""
+    return surface.cached(f"path problem: {kind}", lambda: _Problem(surface, kind))
 
 
 def _breaks(intervals):

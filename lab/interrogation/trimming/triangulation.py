@@ -261,7 +261,12 @@ def _interior_point(loop):
     return X[np.argmax(area)].mean(axis=0)
 
 
-def triangulate(outer, holes, domain, n_u=32, n_v=32, max_area=None, min_angle=20.0, iso_nodes=True):
+#: Bytes per node a triangulation plans for (grid tests, Triangle's arrays, the 3-D mesh made from it).
+TRIANGULATION_BYTES_PER_NODE = 1000
+
+
+def triangulate(outer, holes, domain, n_u=32, n_v=32, max_area=None, min_angle=20.0, iso_nodes=True, *,
+                memory_limit=None):
     """Constrained Delaunay triangulation of a trimmed region in the parameter domain (``seeds/002``, 2.2-2.4).
 
     Boundary nodes are the loop points, the crossings of the iso-parameter
@@ -292,6 +297,9 @@ def triangulate(outer, holes, domain, n_u=32, n_v=32, max_area=None, min_angle=2
     iso_nodes : bool
         Insert the iso-parameter nodes (grid and crossings); with ``False``
         only the loop points (and refinement points) are used.
+    memory_limit : int or str, optional
+        The estimated memory (grid nodes, and two nodes per ``max_area`` of
+        the domain) must stay below it (default :func:`lab.memory_limit`).
 
     Returns
     -------
@@ -317,6 +325,10 @@ def triangulate(outer, holes, domain, n_u=32, n_v=32, max_area=None, min_angle=2
         if not max_area > 0:
             raise ValueError(f"max_area must be positive; got {max_area:g}")
         opts += f"a{max_area:.17g}"
+    (u0, u1), (v0, v1) = domain
+    nodes = n_u * n_v + (0 if max_area is None else 2 * (u1 - u0) * (v1 - v0) / max_area)
+    _v.check_memory(TRIANGULATION_BYTES_PER_NODE * nodes, f"a triangulation with about {nodes:.3g} nodes",
+                    memory_limit)
     us, vs = _iso_lines(domain, n_u, n_v)
     h = min(np.diff(us).min(), np.diff(vs).min())
     spacing = h if max_area is None else min(h, 1.5 * np.sqrt(max_area))
