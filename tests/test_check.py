@@ -382,3 +382,13 @@ def test_an_exception_in_one_case_does_not_zero_the_others():
     assert "m and n are swapped" in str(rep)  # the IndexError on non-square patches is named
     for case in rep.cases:  # every failing case is listed, with its status
         assert (f"✘ {case.name}  (error)" if case.status == "error" else f"✔ {case.name}") in str(rep)
+
+
+def test_every_blocked_name_is_a_function_of_the_library():
+    """A renamed library function must not silently drop out of a task's blocked list (or break every check)."""
+    from lab.teaching.runner import resolve
+    from lab.teaching.tasks import TASKS
+
+    for task in TASKS.values():
+        for name in task.blocked:
+            assert callable(resolve(name)), name

@@ -21,7 +21,9 @@ CURVATURE_BLOCK = ANALYTIC_BLOCK + tuple(f"lab.geometry.curvature.{name}" for na
     "from_derivatives", "fundamental_forms", "principal_curvatures", "unit_normal"))
 BEZIER_BLOCK = tuple(f"lab.geometry.bezier.{name}" for name in (
     "derivative_net", "derivatives", "corner_derivatives", "_corner_values")) + (
-    "lab.geometry.bspline.derivatives", "lab.geometry.bspline.basis_derivatives")
+    "lab.geometry.bspline.basis_derivatives", "lab.geometry.bspline.basis_rows",
+    "lab.geometry.tensor.point_derivatives", "lab.geometry.tensor.grouped_derivatives",
+    "lab.geometry.tensor.grid_blocks")
 
 
 def _number(value):
