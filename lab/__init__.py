@@ -3,6 +3,7 @@
 The package is layered; a folder is a layer and imports only point down (``LAYERS``, bottom first):
 
 =================  ======================================================================================
+``i18n/``          the language of messages (English, German): gettext catalogues
 ``geometry/``      formulas on arrays: Bézier, B-spline/NURBS, derivatives, curvature, colour maps, sympy-exact
                    references (numpy, scipy, sympy)
 ``mesh/``          PyVista meshes with exact curvature, welding, level lines, geomview files
@@ -28,7 +29,7 @@ import sys
 __version__ = "0.1.0"
 
 #: The layers, bottom first: a module of a layer imports only from its own layer and the ones before it.
-LAYERS = ("geometry", "mesh", "model", "interrogation", "view", "teaching")
+LAYERS = ("i18n", "geometry", "mesh", "model", "interrogation", "view", "teaching")
 
 #: Public short module names -> the module in its layer.
 MODULES = {
@@ -70,6 +71,7 @@ _NAMES = {
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
+    "lab.i18n": ("set_language", "language"),
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}
 

@@ -1,0 +1,65 @@
+"""The language of the lab's messages (English or German) through gettext; catalogues in ``locale/<lang>``.
+The lowest layer: imports nothing of lab.  ``_("text")`` translates, ``set_language("de")`` chooses
+(default: ``LAB_LANG``, else English); ``lab.po`` files are extracted with Babel (see the README).
+"""
+
+import gettext
+import os
+from pathlib import Path
+
+__all__ = ["LANGUAGES", "DOMAIN", "LOCALE_DIR", "_", "N_", "language", "set_language", "translation"]
+
+#: The languages the lab speaks.
+LANGUAGES = ("en", "de")
+DOMAIN = "lab"
+LOCALE_DIR = Path(__file__).resolve().parent / "locale"
+
+_chosen = None
+
+
+def _normalise(lang):
+    code = str(lang).strip().lower().replace("-", "_").split("_")[0].split(".")[0]
+    if code not in LANGUAGES:
+        raise ValueError(f"language must be one of {', '.join(LANGUAGES)}; got {lang!r}")
+    return code
+
+
+def language():
+    """The current language: the one set with :func:`set_language`, else ``LAB_LANG``, else English."""
+    if _chosen is not None:
+        return _chosen
+    env = os.environ.get("LAB_LANG", "")
+    try:
+        return _normalise(env) if env else "en"
+    except ValueError:
+        return "en"
+
+
+def set_language(lang):
+    """Choose the language of checks, hints, reports and explorer labels in this process ("en" or "de")."""
+    global _chosen
+    _chosen = _normalise(lang)
+    os.environ["LAB_LANG"] = _chosen  # kernels and processes started from here speak it too
+    return _chosen
+
+
+_catalogues = {}
+
+
+def translation(lang=None):
+    """The gettext translation of ``lang`` (default: the current language); English is the identity."""
+    lang = language() if lang is None else _normalise(lang)
+    if lang not in _catalogues:
+        _catalogues[lang] = (gettext.NullTranslations() if lang == "en" else
+                             gettext.translation(DOMAIN, LOCALE_DIR, languages=[lang], fallback=True))
+    return _catalogues[lang]
+
+
+def _(message):
+    """``message`` in the current language (the English text itself where no translation exists)."""
+    return translation().gettext(message)
+
+
+def N_(message):
+    """Mark ``message`` for extraction without translating it now (translate it with ``_`` where it is shown)."""
+    return message
