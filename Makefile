@@ -9,7 +9,7 @@ APT_PACKAGES := libegl1 libgl1-mesa-dri
 TEST_APT_PACKAGES := chromium bubblewrap
 PORT ?= 8888
 
-.PHONY: lab test setup system-deps venv clean benchmarks exercises
+.PHONY: lab test setup system-deps venv clean benchmarks exercises translations
 
 # Debian packages that offscreen rendering (EGL) needs (and Chromium for the browser tests); installed only when missing.
 system-deps:
@@ -52,6 +52,14 @@ test: system-deps $(TEST_STAMP)
 # Regenerate exercises/ from solutions/ (refuses to overwrite exercises a student has edited).
 exercises: setup
 	$(PY) -m lab.teaching.notebooks
+
+# Messages: extract the marked strings (Babel), merge them into the German catalogue, compile it.
+# A test fails when a message has no German text or the compiled catalogue is stale.
+CATALOGUE := lab/i18n/locale/de/LC_MESSAGES/lab.po
+translations: $(TEST_STAMP)
+	$(VENV)/bin/pybabel extract -k _ -k N_ --no-location --sort-output --project curvature-lab -o $(VENV)/lab.pot lab
+	$(VENV)/bin/pybabel update -i $(VENV)/lab.pot -d lab/i18n/locale -l de -D lab --no-fuzzy-matching --ignore-obsolete
+	$(VENV)/bin/pybabel compile -d lab/i18n/locale -l de -D lab --statistics
 
 benchmarks: system-deps $(TEST_STAMP)
 	$(PY) benchmarks/curvature.py
