@@ -26,7 +26,7 @@ def extracted():
     out = set()
     for path in sorted((ROOT / "lab").rglob("*.py")):
         with open(path, "rb") as fh:
-            for _, _, message, _ in extract.extract("python", fh, keywords={"_": None, "N_": None}):
+            for _line, message, _comments, _context in extract.extract("python", fh, keywords={"_": None, "N_": None}):
                 out.add(message)
     return out
 
