@@ -8,7 +8,7 @@ case does not zero the others.  A case that did not run scores 0 and says "not r
 import html
 from dataclasses import asdict, dataclass, field
 
-from ..i18n import N_, _
+from ..i18n import N_, _, language, using
 
 __all__ = ["Case", "Report", "STATUSES"]
 
@@ -79,6 +79,8 @@ class Report:
     message: str = ""
     graded: bool = False
     seed: int = None
+    #: the language the report was made in: it is shown in that language wherever it is printed later
+    lang: str = field(default_factory=language, repr=False, compare=False)
 
     @property
     def passed(self):
@@ -92,11 +94,16 @@ class Report:
 
     def to_dict(self):
         d = asdict(self)
+        del d["lang"]
         d["score"] = self.score
         d["passed"] = self.passed
         return d
 
     def lines(self):
+        with using(self.lang):
+            return self._lines()
+
+    def _lines(self):
         n, k = len(self.cases), sum(c.status == "passed" for c in self.cases)
         out = [_(_HEAD[self.status]).format(task=self.task, n=n, k=k)]
         if self.message:
