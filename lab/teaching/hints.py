@@ -4,7 +4,7 @@ import numpy as np
 
 from ..geometry import colormaps
 from ..i18n import N_, _
-from .references import MODE_FIELD, NET_NAMES, degree_factor, expected_colors, variant_corner_derivatives, variant_curvature
+from .references import MAP_LABELS, MODE_FIELD, NET_NAMES, degree_factor, expected_colors, variant_corner_derivatives, variant_curvature
 from .spec import close as _close
 
 __all__ = ["VARIANT_HINTS", "hint", "diagnose_values", "diagnose_colors", "visualize_error_hint"]
@@ -127,7 +127,8 @@ def diagnose_colors(values, got, cmap, tol):
                     "e.g. 1e-9 / size² for K.")
     for other in ("linear", "cut", "classification"):
         if other != cmap and close(got, expected_colors(values, other), rtol=1e-6):
-            return _("these are the colours of the {other} map; use the colour map given by color_map.").format(other=other)
+            return _("these are the colours of the {other} map; use the colour map given by color_map.").format(
+                other=_(MAP_LABELS[other]))
     return _("apply the colour map to the curvature values, then h (practical section 4).")
 
 

@@ -7,7 +7,7 @@ from ..geometry.curvature import zero_tolerance
 from ..i18n import N_, _
 from ..model.patches import BezierPatches
 from .hints import diagnose_colors, diagnose_values, visualize_error_hint
-from .references import MODE_FIELD, exact_corners, expected_colors, model_size, rand_net, value_tolerance
+from .references import MODE_FIELD, MODE_LABELS, exact_corners, expected_colors, model_size, rand_net, value_tolerance
 from .spec import CaseSpec, Task, close, fmt
 from .tasks_curvature import BEZIER_BLOCK, CURVATURE_BLOCK
 
@@ -204,7 +204,7 @@ def _visualize_judge(case, value, exp):
     # at umbilics κ1, κ2 = H ± √(H² − K) are only accurate to √eps relative
     tol = value_tolerance(values, mode, case.info["size"], 1e-7 if mode in ("k1", "k2") else 1e-8)
     if not np.all(np.abs(got_v - values) <= tol):
-        return (False, _("{mode} at the corners: {values}").format(mode=mode, values=fmt(values)), fmt(got_v),
+        return (False, _("{mode} at the corners: {values}").format(mode=_(MODE_LABELS[mode]), values=fmt(values)), fmt(got_v),
                 diagnose_values(nets, mode, got_v, values))
     if np.isnan(got_c).all(axis=(1, 2, 3)).any():
         return (False, _("set_colors called for every patch"), _("some patches have no colours"),

@@ -39,7 +39,7 @@ def _focal_hint(args, val, exp):
         return _("the sign: F = X + N/κ with the practical's N; a negative κ puts F on the −N side by itself.")
     if close(val[::-1], exp):
         return _("return the sheets in the order (X + N/κ1, X + N/κ2).")
-    return _("F_i = X + N / κ_i (seeds/002, section 4).")
+    return _("F_i = X + N / κ_i (Choi & Lee, section 4).")
 
 
 FOCAL_POINTS = Task("focal_points", _focal_cases,
@@ -68,7 +68,7 @@ def _reflect_hint(args, val, exp):
         return _("that is the projection onto the tangent plane: the factor 2 is missing.")
     if close(val, -exp):
         return _("R points away from the surface: R = v − 2 (v·N) N, not its negative.")
-    return _("R = v − 2 (v·N) N (seeds/002, section 3).")
+    return _("R = v − 2 (v·N) N (Choi & Lee, section 3).")
 
 
 REFLECT = Task("reflect", _reflect_cases, lambda c: c.args[0] - 2 * np.dot(c.args[0], c.args[1]) * c.args[1],
