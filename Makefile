@@ -12,7 +12,7 @@ PORT ?= 8888
 # It selects exercises/<lang>, JupyterLab's interface language and LAB_LANG (checks, hints, labels) for the kernels.
 LAB_LANGUAGE := $(if $(filter de%,$(LANG)),de,en)
 
-.PHONY: lab test setup system-deps venv clean benchmarks exercises
+.PHONY: lab test setup system-deps venv clean benchmarks exercises translations
 
 # Debian packages that offscreen rendering (EGL) needs (and Chromium for the browser tests); installed only when missing.
 system-deps:
@@ -59,6 +59,14 @@ test: system-deps $(TEST_STAMP)
 # (refuses to overwrite notebooks edited since they were generated, e.g. a student's exercise).
 exercises: setup
 	$(PY) -m lab.teaching.notebooks
+
+# Messages: extract the marked strings (Babel), merge them into the German catalogue, compile it.
+# A test fails when a message has no German text or the compiled catalogue is stale.
+CATALOGUE := lab/i18n/locale/de/LC_MESSAGES/lab.po
+translations: $(TEST_STAMP)
+	$(VENV)/bin/pybabel extract -k _ -k N_ --no-location --sort-output --project curvature-lab -o $(VENV)/lab.pot lab
+	$(VENV)/bin/pybabel update -i $(VENV)/lab.pot -d lab/i18n/locale -l de -D lab --no-fuzzy-matching --ignore-obsolete
+	$(VENV)/bin/pybabel compile -d lab/i18n/locale -l de -D lab --statistics
 
 benchmarks: system-deps $(TEST_STAMP)
 	$(PY) benchmarks/curvature.py

@@ -166,7 +166,7 @@ def test_stub_garbage_errors_and_endless_loops_are_reported():
     start = time.perf_counter()
     rep = check.visualize_curvature(Forever, timeout=1.5)
     assert time.perf_counter() - start < 10
-    assert rep.status == "timeout" and "visualize_curvature was stopped after 1.5 s" in rep.message
+    assert rep.status == "timeout" and "visualize_curvature: stopped after 1.5 s" in rep.message
 
     class Swallow(lab.BezierPatches):
         def visualize_curvature(self, curvature_mode, color_map):

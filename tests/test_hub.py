@@ -159,3 +159,53 @@ def test_two_students_through_the_hub(hub, tmp_path):
         assert pid_a.split()[1] != pid_b.split()[1] and pid_a.split()[2] == "ada" and pid_b.split()[2] == "bob"
         browser.close()
     assert foreign == [], f"the browser addressed other origins than the hub's: {foreign[:5]}"
+
+
+def _git(cwd, *args):
+    subprocess.run(["git", "-c", "user.email=instructor@example.org", "-c", "user.name=instructor", *args], cwd=cwd,
+                   check=True, capture_output=True)
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="git is missing")
+def test_exercises_handed_out_with_nbgitpuller_never_overwrite_edits(hub, tmp_path):
+    """The nbgitpuller link of deploy/nbgitpuller.md: the first click clones, a later one pulls the instructor's
+    new commits, and a notebook the student edited keeps the student's version."""
+    from playwright.sync_api import sync_playwright
+
+    url, root = hub
+    course = tmp_path / "course"
+    (course / "exercises").mkdir(parents=True)
+    exercise = sorted((ROOT / "exercises").rglob("00_start.ipynb"))[0]
+    shutil.copy(exercise, course / "exercises" / "00_start.ipynb")
+    _git(course, "init", "-q", "-b", "main")
+    _git(course, "add", ".")
+    _git(course, "commit", "-q", "-m", "exercises")
+    user = "cyd"
+    (root / "home" / user).mkdir(parents=True, exist_ok=True)
+    link = (f"{url}/hub/user-redirect/git-pull?repo=file://{course}&branch=main"
+            f"&urlpath=lab/tree/course/exercises/00_start.ipynb")
+    mine = root / "home" / user / "course" / "exercises" / "00_start.ipynb"
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        page = login(browser.new_context(), url, user)
+        page.goto(link)
+        page.wait_for_url("**/lab/tree/course/exercises/00_start.ipynb**", timeout=240_000)
+        assert mine.exists()
+        # the student edits the notebook; the instructor fixes a typo in it and adds a notebook
+        edited = mine.read_text().replace('"cells": [', '"cells": [{"cell_type": "markdown", "id": "mine00", '
+                                          '"metadata": {}, "source": ["my own notes"]}, ', 1)
+        mine.write_text(edited)
+        text = (course / "exercises" / "00_start.ipynb").read_text()
+        (course / "exercises" / "00_start.ipynb").write_text(text.replace("How the lab works", "How this lab works", 1))
+        shutil.copy(exercise, course / "exercises" / "01_new.ipynb")
+        _git(course, "add", ".")
+        _git(course, "commit", "-q", "-m", "a typo and a new notebook")
+        page.goto(link)
+        page.wait_for_url("**/lab/tree/course/exercises/00_start.ipynb**", timeout=240_000)
+        browser.close()
+    assert (root / "home" / user / "course" / "exercises" / "01_new.ipynb").exists()  # the new notebook arrived
+    after = mine.read_text()
+    assert "my own notes" in after  # the student's edit is kept
+    import json
+
+    json.loads(after)  # and the notebook is still valid JSON

@@ -3,11 +3,13 @@ The lowest layer: imports nothing of lab.  ``_("text")`` translates, ``set_langu
 (default: ``LAB_LANG``, else English); ``lab.po`` files are extracted with Babel (see the README).
 """
 
+import contextlib
+import contextvars
 import gettext
 import os
 from pathlib import Path
 
-__all__ = ["LANGUAGES", "DOMAIN", "LOCALE_DIR", "_", "N_", "language", "set_language", "translation"]
+__all__ = ["LANGUAGES", "DOMAIN", "LOCALE_DIR", "_", "N_", "language", "set_language", "using", "translation"]
 
 #: The languages the lab speaks.
 LANGUAGES = ("en", "de")
@@ -15,6 +17,7 @@ DOMAIN = "lab"
 LOCALE_DIR = Path(__file__).resolve().parent / "locale"
 
 _chosen = None
+_context = contextvars.ContextVar("lab_language", default=None)  # per thread: the grader grades in parallel
 
 
 def _normalise(lang):
@@ -25,7 +28,9 @@ def _normalise(lang):
 
 
 def language():
-    """The current language: the one set with :func:`set_language`, else ``LAB_LANG``, else English."""
+    """The current language: :func:`using`'s, else :func:`set_language`'s, else ``LAB_LANG``, else English."""
+    if _context.get() is not None:
+        return _context.get()
     if _chosen is not None:
         return _chosen
     env = os.environ.get("LAB_LANG", "")
@@ -41,6 +46,16 @@ def set_language(lang):
     _chosen = _normalise(lang)
     os.environ["LAB_LANG"] = _chosen  # kernels and processes started from here speak it too
     return _chosen
+
+
+@contextlib.contextmanager
+def using(lang):
+    """Speak ``lang`` inside the block, in this thread only (the grader reports each submission in its language)."""
+    token = _context.set(_normalise(lang))
+    try:
+        yield
+    finally:
+        _context.reset(token)
 
 
 _catalogues = {}

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import nbformat
 
-from ..i18n import LANGUAGES
+from ..i18n import LANGUAGES, _
 from .tasks import TASKS
 
 __all__ = ["Assignment", "AssignmentError", "load", "for_submission", "DEFAULT_FOLDER"]
@@ -42,14 +42,17 @@ class Assignment:
 def _tasks(meta, where):
     tasks = meta.get("tasks")
     if not isinstance(tasks, list):
-        raise AssignmentError(f"{where} has no task list (metadata 'lab' -> 'tasks'); is it a curvature-lab notebook?")
+        raise AssignmentError(_("{where} has no task list (metadata 'lab' -> 'tasks'); is it a curvature-lab notebook?").format(
+            where=where))
     out, seen = [], set()
     for t in tasks:
         if not isinstance(t, dict) or t.get("task") not in TASKS:
-            raise AssignmentError(f"{where}: unknown task {t!r}; expected one of {', '.join(TASKS)}")
+            raise AssignmentError(_("{where}: unknown task {task}; expected one of {tasks}").format(
+                where=where, task=repr(t), tasks=", ".join(TASKS)))
         obj, points = str(t.get("object", t["task"])), float(t.get("points", 1))
         if (t["task"], obj) in seen or not points >= 0:
-            raise AssignmentError(f"{where}: task {t['task']} on {obj} is listed twice or has invalid points")
+            raise AssignmentError(_("{where}: task {task} on {object} is listed twice or has invalid points").format(
+                where=where, task=t["task"], object=obj))
         seen.add((t["task"], obj))
         out.append((t["task"], obj, points))
     return tuple(out)
@@ -61,7 +64,8 @@ def load(path):
     try:
         nb = nbformat.read(str(path), as_version=4)
     except Exception as exc:
-        raise AssignmentError(f"cannot read the assignment {path}: {type(exc).__name__}: {exc}") from None
+        raise AssignmentError(_("cannot read the assignment {path}: {error}").format(
+            path=path, error=f"{type(exc).__name__}: {exc}")) from None
     meta = nb.metadata.get("lab", {})
     return Assignment(str(meta.get("assignment", path.stem)), str(meta.get("title", path.stem)),
                       _tasks(meta, str(path)), str(path))
@@ -81,7 +85,8 @@ def for_submission(nb, path, assignment=None):
     if where.is_file():
         found = load(where)
         if claimed is not None and str(claimed) != found.id:
-            notes.append(f"the notebook says it is assignment {claimed!r}; graded as {found.id!r} as instructed")
+            notes.append(_("the notebook says it is assignment {claimed}; graded as {id} as instructed").format(
+                claimed=repr(claimed), id=repr(found.id)))
     else:
         key = str(claimed) if claimed is not None else Path(path).stem
         name = f"{Path(key).name}.ipynb"
@@ -89,8 +94,8 @@ def for_submission(nb, path, assignment=None):
         folders = [where] + [where / code for code in sorted(LANGUAGES, key=lambda code: code != lang)]
         candidate = next((f / name for f in folders if (f / name).is_file()), None)
         if candidate is None:
-            raise AssignmentError(
-                f"cannot tell which assignment {path} is (id {key!r} not found in {where}); pass --assignment")
+            raise AssignmentError(_("cannot tell which assignment {path} is (id {id} not found in {where}); pass --assignment")
+                                  .format(path=path, id=repr(key), where=where))
         found = load(candidate)
     own = meta.get("tasks")
     if own is not None:
@@ -99,5 +104,5 @@ def for_submission(nb, path, assignment=None):
         except AssignmentError:
             mine = None
         if mine != found.tasks:
-            notes.append("the notebook's own task list differs from the assignment's; the assignment's is used")
+            notes.append(_("the notebook's own task list differs from the assignment's; the assignment's is used"))
     return found, notes

@@ -20,6 +20,7 @@ import nbformat
 from nbclient import NotebookClient
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
 
+from ..i18n import _
 from .protocol import MARKER
 
 #: Bytes of output kept per cell (a cell that prints gigabytes must not exhaust the sandbox's memory).
@@ -148,21 +149,22 @@ class Run:
                     except _Unresponsive as exc:
                         status, stuck = str(exc), True
                     if status == "died" and kind == "cell":
-                        self._cell_error(index, "the kernel died (did the code exit or crash?)", "error")
+                        self._cell_error(index, _("the kernel died (did the code exit or crash?)"), "error")
                     elif status == "died":
-                        self._task_timeout(rest[0], "the kernel died while running this case (did the code exit?)",
+                        self._task_timeout(rest[0], _("the kernel died while running this case (did the code exit?)"),
                                            "error")
                     elif status in ("timeout", "stuck") and kind == "cell":
-                        self._cell_error(index, f"stopped after {limit:g} s (endless loop?)", "timeout")
+                        self._cell_error(index, _("stopped after {seconds} s (endless loop?)").format(seconds=f"{limit:g}"),
+                                         "timeout")
                     elif status in ("timeout", "stuck"):
-                        self._task_timeout(rest[0], f"stopped after {case_timeout:g} s, and it did not stop when "
-                                                    "interrupted (endless loop?)")
+                        self._task_timeout(rest[0], _("stopped after {seconds} s, and it did not stop when "
+                                                      "interrupted (endless loop?)").format(seconds=f"{case_timeout:g}"))
                     elif kind == "cell" and status == "ok":
                         self.worked.append(index)
             self.restarts += stuck
         for kind, index, *rest in items:
             if kind == "cell":
-                self._cell_error(index, "not run: the kernel had to be replaced too often", "not run")
+                self._cell_error(index, _("not run: the kernel had to be replaced too often"), "not run")
         (self.out / "cells.json").write_text(json.dumps({"cell_errors": self.cell_errors, "restarts": self.restarts}))
 
 

@@ -35,6 +35,8 @@ from pathlib import Path
 import nbformat
 import numpy as np
 
+from .. import i18n
+from ..i18n import _
 from . import assignments as _assignments
 from .protocol import encode_args
 from .sandbox import MEMORY, Sandbox, prepare_package
@@ -65,6 +67,7 @@ class GradeResult:
     missing_protections: list = field(default_factory=list)
     error: str = ""
     seconds: float = 0.0
+    lang: str = "en"
 
     @property
     def score(self):
@@ -82,29 +85,36 @@ class GradeResult:
         return all(t["passed"] for t in self.tasks) if self.tasks else not self.cell_errors
 
     def to_dict(self):
-        return {"notebook": self.notebook, "assignment": self.assignment, "seed": self.seed, "score": self.score,
+        return {"notebook": self.notebook, "assignment": self.assignment, "lang": self.lang, "seed": self.seed,
+                "score": self.score,
                 "max_score": self.max_score, "passed": self.passed, "tasks": self.tasks,
                 "cell_errors": self.cell_errors, "notes": self.notes, "missing_protections": self.missing_protections,
                 "error": self.error, "seconds": round(self.seconds, 2)}
 
     def text(self):
-        lines = [f"{self.notebook}: {self.score:g} / {self.max_score:g} points"
-                 + (f"  (assignment {self.assignment}, seed {self.seed})" if self.assignment else "")]
+        with i18n.using(self.lang):
+            return self._text()
+
+    def _text(self):
+        lines = [_("{notebook}: {score} / {max} points").format(notebook=self.notebook, score=f"{self.score:g}",
+                                                                 max=f"{self.max_score:g}")
+                 + ("  " + _("(assignment {id}, seed {seed})").format(id=self.assignment, seed=self.seed)
+                    if self.assignment else "")]
         if self.error:
-            lines.append(f"  error: {self.error}")
+            lines.append("  " + _("error: {message}").format(message=self.error))
         for t in self.tasks:
             lines.append(f"- {t['task']} ({t['object']}): {t['points'] * t['score']:.4g} / {t['points']:g}")
             lines.extend("    " + line for line in t["report"].splitlines())
         errors = [e for e in self.cell_errors if e.get("kind") not in WITHHELD]
         withheld = [str(e["cell"]) for e in self.cell_errors if e.get("kind") in WITHHELD]
         for e in errors:
-            lines.append(f"  cell {e['cell']}: {e['error']}")
+            lines.append("  " + _("cell {index}: {error}").format(index=e["cell"], error=e["error"]))
         if withheld:
-            lines.append(f"  cell{'s' * (len(withheld) > 1)} {', '.join(withheld)}: the library's reference "
-                         "implementation (or a result of it) is withheld in the graded run; no points depend on it")
-        lines.extend(f"  note: {n}" for n in self.notes)
+            lines.append("  " + _("cells {indices}: the library's reference implementation (or a result of it) is "
+                                  "withheld in the graded run; no points depend on it").format(indices=", ".join(withheld)))
+        lines.extend("  " + _("note: {note}").format(note=n) for n in self.notes)
         if self.missing_protections:
-            lines.append("  sandbox: missing " + "; ".join(self.missing_protections))
+            lines.append("  " + _("sandbox: missing {what}").format(what="; ".join(self.missing_protections)))
         return "\n".join(lines)
 
     def gradescope(self):
@@ -124,7 +134,7 @@ class Prepared:
     """The cases, answers and sandbox package of one assignment for one run (shared by its submissions)."""
 
     def __init__(self, assignment, seed, workdir):
-        self.assignment, self.seed = assignment, seed
+        self.assignment, self.seed, self.lang = assignment, seed, i18n.language()  # case names are in this language
         streams = np.random.SeedSequence(seed).spawn(len(assignment.tasks))
         self.cases = [TASKS[name].make_cases(np.random.default_rng(s), True)
                       for (name, _, _), s in zip(assignment.tasks, streams)]
@@ -167,7 +177,7 @@ def _grade_in_sandbox(raw, prepared, *, timeout, check_timeout, total_timeout, m
     with tempfile.TemporaryDirectory(prefix="lab-grade-") as tmp:
         work = Path(tmp) / "work"
         (work / "out").mkdir(parents=True)
-        box = Sandbox(prepared.package, work, memory=memory, use_bwrap=use_sandbox)
+        box = Sandbox(prepared.package, work, memory=memory, use_bwrap=use_sandbox, lang=prepared.lang)
         inside = box.inside
         (work / "submission.ipynb").write_bytes(raw)
         spec = prepared.spec(inside / "submission.ipynb", inside / "out", timeout, check_timeout)
@@ -191,9 +201,11 @@ def _grade_in_sandbox(raw, prepared, *, timeout, check_timeout, total_timeout, m
             cell_errors = []
         note = ""
         if timed_out:
-            note = f"the submission was stopped after {total_timeout:g} s (its time limit); cases not reached score 0"
+            note = _("the submission was stopped after {seconds} s (its time limit); cases not reached score 0").format(
+                seconds=f"{total_timeout:g}")
         elif code != 0 and not (work / "out" / "cells.json").exists():
-            note = f"the graded run ended abnormally (exit status {code}): {stderr.strip()[-300:]}"
+            note = _("the graded run ended abnormally (exit status {code}): {stderr}").format(
+                code=code, stderr=stderr.strip()[-300:])
         return outcomes, cell_errors, box.missing, note
 
 
@@ -221,45 +233,54 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
     """
     start = time.perf_counter()
     path = Path(path)
-    result = GradeResult(str(path))
+    result = GradeResult(str(path), lang=i18n.language())
     try:
         if path.stat().st_size > MAX_NOTEBOOK:
-            raise ValueError(f"the notebook is larger than {MAX_NOTEBOOK >> 20} MiB")
+            raise ValueError(_("the notebook is larger than {size} MiB").format(size=MAX_NOTEBOOK >> 20))
         raw = path.read_bytes()
         nb = nbformat.reads(raw.decode("utf-8"), as_version=4)
     except Exception as exc:  # unreadable notebook: a result, not a crash
-        result.error = f"cannot read the notebook: {type(exc).__name__}: {exc}"
+        result.error = _("cannot read the notebook: {error}").format(error=f"{type(exc).__name__}: {exc}")
         return result
-    try:
-        found, result.notes = _assignments.for_submission(nb, path, assignment)
-    except _assignments.AssignmentError as exc:
-        result.error = str(exc)
-        return result
-    own = None
-    if prepared is None or prepared.assignment != found:
-        own = tempfile.mkdtemp(prefix="lab-grade-pkg-")
-        prepared = Prepared(found, secrets.randbelow(2**32) if seed is None else int(seed), own)
-    try:
-        result.assignment, result.seed = found.id, prepared.seed
-        outcomes, result.cell_errors, result.missing_protections, note = _grade_in_sandbox(
-            raw, prepared, timeout=timeout, check_timeout=check_timeout, total_timeout=total_timeout, memory=memory,
-            use_sandbox=sandbox)
-        expected = prepared.expected()
-    finally:
-        if own is not None:
-            shutil.rmtree(own, ignore_errors=True)
-    if note:
-        result.notes.append(note)
-    for k, (name, obj, points) in enumerate(found.tasks):
-        task = TASKS[name]
-        judged = []
-        for i, case in enumerate(prepared.cases[k]):
-            out = outcomes[k].get(i, {"status": "not run", "message": "the graded run ended before this case"})
-            judged.append(judge_outcome(task, case, out, lambda k=k, i=i: expected[k][i]))
-        report = build_report(task, prepared.cases[k], judged, graded=True, seed=prepared.seed)
-        result.tasks.append({**report.to_dict(), "object": obj, "points": points, "report": str(report)})
+    result.lang = submission_language(nb)
+    with i18n.using(result.lang):
+        try:
+            found, result.notes = _assignments.for_submission(nb, path, assignment)
+        except _assignments.AssignmentError as exc:
+            result.error = str(exc)
+            return result
+        own = None
+        if prepared is None or prepared.assignment != found or prepared.lang != result.lang:
+            own = tempfile.mkdtemp(prefix="lab-grade-pkg-")
+            prepared = Prepared(found, secrets.randbelow(2**32) if seed is None else int(seed), own)
+        try:
+            result.assignment, result.seed = found.id, prepared.seed
+            outcomes, result.cell_errors, result.missing_protections, note = _grade_in_sandbox(
+                raw, prepared, timeout=timeout, check_timeout=check_timeout, total_timeout=total_timeout,
+                memory=memory, use_sandbox=sandbox)
+            expected = prepared.expected()
+        finally:
+            if own is not None:
+                shutil.rmtree(own, ignore_errors=True)
+        if note:
+            result.notes.append(note)
+        for k, (name, obj, points) in enumerate(found.tasks):
+            task = TASKS[name]
+            judged = []
+            for i, case in enumerate(prepared.cases[k]):
+                out = outcomes[k].get(i, {"status": "not run", "message": _("the graded run ended before this case")})
+                judged.append(judge_outcome(task, case, out, lambda k=k, i=i: expected[k][i]))
+            report = build_report(task, prepared.cases[k], judged, graded=True, seed=prepared.seed)
+            result.tasks.append({**report.to_dict(), "object": obj, "points": points, "report": str(report)})
     result.seconds = time.perf_counter() - start
     return result
+
+
+def submission_language(nb):
+    """The language a submission is graded and reported in: its metadata ``lab.lang``, else the current one."""
+    meta = nb.metadata.get("lab") if isinstance(nb.metadata.get("lab"), dict) else {}
+    lang = str(meta.get("lang", ""))
+    return lang if lang in i18n.LANGUAGES else i18n.language()
 
 
 def _student(folder, nb_path):
@@ -290,13 +311,14 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
     def one(nb_path):
         try:
             nb = nbformat.read(str(nb_path), as_version=4)
-            found, _ = _assignments.for_submission(nb, nb_path, assignment)
+            found, _notes = _assignments.for_submission(nb, nb_path, assignment)
         except Exception:  # grade_notebook reports it
             return grade_notebook(nb_path, assignment=assignment, seed=seed, **kwargs)
-        with lock:
-            if found.id not in prepared:
-                prepared[found.id] = Prepared(found, seed, tmp)
-        return grade_notebook(nb_path, assignment=assignment, prepared=prepared[found.id], **kwargs)
+        lang = submission_language(nb)
+        with lock, i18n.using(lang):
+            if (found.id, lang) not in prepared:
+                prepared[found.id, lang] = Prepared(found, seed, tmp)
+        return grade_notebook(nb_path, assignment=assignment, prepared=prepared[found.id, lang], **kwargs)
 
     try:
         with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:

@@ -8,6 +8,7 @@ those lines after the sandbox has ended and judges them itself; nothing here dec
 
 import json
 
+from ..i18n import _
 from .protocol import decode_args, outcome
 
 __all__ = ["run"]
@@ -23,7 +24,8 @@ def run(namespace, spec_path, index, out_path, start=0, case_timeout=10.0):
                 continue
             if obj is None:
                 result = {"status": "not implemented",
-                          "message": f"{task['object']} is not defined: run the cell that defines it (and keep its name)."}
+                          "message": _("{name} is not defined: run the cell that defines it (and keep its name).").format(
+                              name=task["object"])}
             else:
                 result = outcome(task["protocol"], obj, decode_args(args), case_timeout)
             out.write(json.dumps({"index": i, **result}) + "\n")

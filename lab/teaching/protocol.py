@@ -18,6 +18,8 @@ import traceback
 
 import numpy as np
 
+from ..i18n import _
+
 __all__ = ["MARKER", "MAX_VALUES", "BadOutput", "TimeUp", "call", "decode", "decode_args", "encode", "encode_args",
            "outcome", "time_limit"]
 
@@ -69,7 +71,7 @@ def time_limit(seconds):
 def _array(value):
     a = np.asarray(value, dtype=float)
     if a.size > MAX_VALUES:
-        raise BadOutput(f"{a.size} values; at most {MAX_VALUES} are read")
+        raise BadOutput(_("{n} values; at most {limit} are read").format(n=a.size, limit=MAX_VALUES))
     return {"shape": list(a.shape), "data": [float(x) for x in a.ravel()]}
 
 
@@ -148,16 +150,16 @@ def _call_patches(cls, nets, mode, color_map):
     from ..model.patches import BezierPatches
 
     if not (isinstance(cls, type) and issubclass(cls, BezierPatches)):
-        raise TypeError(f"expected a subclass of lab.BezierPatches; got {cls!r}")
+        raise TypeError(_("expected a subclass of lab.BezierPatches; got {obj}").format(obj=repr(cls)))
     if cls.visualize_curvature is BezierPatches.visualize_curvature:
         _record("lab.model.patches.BezierPatches.visualize_curvature")
-        raise RuntimeError(f"{MARKER}: your class does not define visualize_curvature, it still uses the library's")
+        raise RuntimeError(MARKER + ": " + _("your class does not define visualize_curvature, it still uses the library's"))
     patches = cls(np.asarray(nets, dtype=float))
     patches.visualize_curvature(CurvatureMode(mode), ColorMap(color_map))
     try:
         curvature, colors = _array(patches.curvature), _array(patches.colors)
     except (TypeError, ValueError, OverflowError) as exc:
-        raise BadOutput(f"the stored curvature and colours are not numbers ({exc})") from None
+        raise BadOutput(_("the stored curvature and colours are not numbers ({error})").format(error=exc)) from None
     return {"kind": "patches", "curvature": curvature, "colors": colors}
 
 
@@ -169,7 +171,7 @@ def call(protocol, obj, args):
     """
     if protocol == "function":
         if not callable(obj):
-            raise TypeError(f"expected a function; got {type(obj).__name__}")
+            raise TypeError(_("expected a function; got {kind}").format(kind=type(obj).__name__))
         return encode(obj(*args))
     if protocol == "patches":
         return _call_patches(obj, *args)
@@ -187,7 +189,7 @@ def _student_location(exc, student_files):
         return ""
     f = frames[-1]
     line = f.line or linecache.getline(f.filename, f.lineno).strip()
-    return f"in your code, line {f.lineno}: {line}"
+    return _("in your code, line {line}: {source}").format(line=f.lineno, source=line)
 
 
 def _files_of(obj):
@@ -211,9 +213,10 @@ def outcome(protocol, obj, args, timeout):
         with time_limit(timeout):
             value = call(protocol, obj, args)
     except TimeUp:
-        return {"status": "timeout", "message": f"stopped after {timeout:g} s. Is there an endless loop?"}
+        return {"status": "timeout", "message": _("stopped after {seconds} s. Is there an endless loop?").format(
+            seconds=f"{timeout:g}")}
     except NotImplementedError as exc:
-        return {"status": "not implemented", "message": str(exc) or "not implemented yet"}
+        return {"status": "not implemented", "message": str(exc) or _("not implemented yet")}
     except BadOutput as exc:
         return {"status": "bad output", "message": str(exc)}
     except Exception as exc:

@@ -11,8 +11,13 @@ import numpy as np
 
 from ..geometry import analytic, colormaps
 from ..geometry.curvature import zero_tolerance
+from ..i18n import N_
 
 MODE_FIELD = {"gaussian": "K", "mean": "H", "k1": "k1", "k2": "k2"}
+#: How a report names the curvature modes and colour maps (translated where shown).
+MODE_LABELS = {"gaussian": N_("the Gaussian curvature K"), "mean": N_("the mean curvature H"),
+               "k1": N_("the principal curvature κ1"), "k2": N_("the principal curvature κ2")}
+MAP_LABELS = {"linear": N_("linear (f2)"), "cut": N_("cut (f1)"), "classification": N_("classification (f3)")}
 
 #: The derivative nets and their degree factors, as the practical writes them (section 3).
 NET_NAMES = ("bu", "bv", "buu", "buv", "bvv")

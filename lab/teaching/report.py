@@ -8,6 +8,8 @@ case does not zero the others.  A case that did not run scores 0 and says "not r
 import html
 from dataclasses import asdict, dataclass, field
 
+from ..i18n import N_, _, language, using
+
 __all__ = ["Case", "Report", "STATUSES"]
 
 #: Statuses of a case (and of a task): the student's code ran and was right, was wrong, raised, is a stub,
@@ -16,14 +18,17 @@ STATUSES = ("passed", "failed", "error", "not implemented", "timeout", "delegate
 
 _MARK = {"passed": "✔", "not run": "·"}
 _HEAD = {
-    "passed": "✔ {task}: all {n} cases passed.",
-    "failed": "✘ {task}: {k} of {n} cases passed.",
-    "not implemented": "… {task}: not implemented yet.",
-    "error": "✘ {task}: your code raised an error ({k} of {n} cases passed).",
-    "timeout": "✘ {task}: stopped, it ran too long ({k} of {n} cases passed).",
-    "delegated": "✘ {task}: uses the library's reference implementation ({k} of {n} cases passed).",
-    "not run": "✘ {task}: the check did not run.",
+    "passed": N_("✔ {task}: all {n} cases passed."),
+    "failed": N_("✘ {task}: {k} of {n} cases passed."),
+    "not implemented": N_("… {task}: not implemented yet."),
+    "error": N_("✘ {task}: your code raised an error ({k} of {n} cases passed)."),
+    "timeout": N_("✘ {task}: stopped, it ran too long ({k} of {n} cases passed)."),
+    "delegated": N_("✘ {task}: uses the library's reference implementation ({k} of {n} cases passed)."),
+    "not run": N_("✘ {task}: the check did not run."),
 }
+#: The statuses as a case line shows them.
+_STATUS_WORDS = {"error": N_("error"), "not implemented": N_("not implemented"), "timeout": N_("timeout"),
+                 "delegated": N_("delegated"), "not run": N_("not run")}
 
 
 @dataclass
@@ -74,6 +79,8 @@ class Report:
     message: str = ""
     graded: bool = False
     seed: int = None
+    #: the language the report was made in: it is shown in that language wherever it is printed later
+    lang: str = field(default_factory=language, repr=False, compare=False)
 
     @property
     def passed(self):
@@ -87,38 +94,43 @@ class Report:
 
     def to_dict(self):
         d = asdict(self)
+        del d["lang"]
         d["score"] = self.score
         d["passed"] = self.passed
         return d
 
     def lines(self):
+        with using(self.lang):
+            return self._lines()
+
+    def _lines(self):
         n, k = len(self.cases), sum(c.status == "passed" for c in self.cases)
-        out = [_HEAD[self.status].format(task=self.task, n=n, k=k)]
+        out = [_(_HEAD[self.status]).format(task=self.task, n=n, k=k)]
         if self.message:
             out.append("  " + self.message.replace("\n", "\n  "))
         weights = {c.weight for c in self.cases}
         for c in self.cases:
-            extra = "" if c.status in ("passed", "failed") else f"  ({c.status})"
-            weight = f"  [weight {c.weight:g}]" if len(weights) > 1 else ""
+            extra = "" if c.status in ("passed", "failed") else f"  ({_(_STATUS_WORDS[c.status])})"
+            weight = "  [" + _("weight {w}").format(w=f"{c.weight:g}") + "]" if len(weights) > 1 else ""
             out.append(f"  {_MARK.get(c.status, '✘')} {c.name}{extra}{weight}")
         if self.graded and self.cases:
-            out.append("  credit: " + ("each case counts equally" if len(weights) == 1 else
-                                       "weighted as shown") + f" ({n} cases).")
+            out.append("  " + (_("credit: each case counts equally ({n} cases).") if len(weights) == 1 else
+                               _("credit: weighted as shown ({n} cases).")).format(n=n))
         failed = [c for c in self.cases if c.status not in ("passed", "not run")]
         if failed:
             c = failed[0]
-            out.append(f"First failing case: {c.name}")
-            if c.expected:
-                out.append(f"  expected: {c.expected}")
-            if c.got:
-                out.append(f"  got:      {c.got}")
-            if c.hint:
-                out.append(f"  hint:     {c.hint}")
-            others = [f"{o.name} ({o.hint or o.status})" for o in failed[1:] if o.hint != c.hint or o.status != c.status]
+            out.append(_("First failing case: {name}").format(name=c.name))
+            labels = [_("expected:"), _("got:"), _("hint:")]
+            width = max(len(x) for x in labels)
+            for label, text in zip(labels, (c.expected, c.got, c.hint)):
+                if text:
+                    out.append(f"  {label:<{width}} {text}")
+            others = [f"{o.name} ({o.hint or _(_STATUS_WORDS.get(o.status, o.status))})" for o in failed[1:]
+                      if o.hint != c.hint or o.status != c.status]
             if others:
-                out.append("Other failing cases: " + "; ".join(others[:6]) + (" …" if len(others) > 6 else ""))
+                out.append(_("Other failing cases: ") + "; ".join(others[:6]) + (" …" if len(others) > 6 else ""))
         if self.passed and not self.graded:
-            out.append("Public checks passed; the graded run adds more cases.")
+            out.append(_("Public checks passed; the graded run adds more cases."))
         return out
 
     def __str__(self):

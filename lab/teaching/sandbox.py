@@ -32,6 +32,7 @@ import time
 import uuid
 from pathlib import Path
 
+from ..i18n import _
 from .runner import stub_source
 
 __all__ = ["Sandbox", "bwrap_works", "prepare_package"]
@@ -152,16 +153,19 @@ class Sandbox:
         Memory limit (writable data: heap and anonymous mappings) per process, bytes.
     use_bwrap : bool or None
         None: use it when it works here.
+    lang : str
+        The language of the messages produced inside (``LAB_LANG``).
     """
 
-    def __init__(self, package, workdir, *, memory=MEMORY, use_bwrap=None):
+    def __init__(self, package, workdir, *, memory=MEMORY, use_bwrap=None, lang="en"):
         self.package = Path(package)
+        self.lang = lang
         self.workdir = Path(workdir)
         self.memory = int(memory)
         self.bwrap = bwrap_works() if use_bwrap is None else bool(use_bwrap)
         self.missing = [] if self.bwrap else [
-            "filesystem isolation (the course's files are readable)", "network isolation",
-            "process isolation (a process that starts its own session can outlive the grading)"]
+            _("filesystem isolation (the course's files are readable)"), _("network isolation"),
+            _("process isolation (a process that starts its own session can outlive the grading)")]
         self.cgroup = None
 
     @property
@@ -173,7 +177,7 @@ class Sandbox:
         home = "/tmp/home" if self.bwrap else str(self.workdir / ".home")
         env = {
             "PATH": f"{Path(sys.executable).parent}:/usr/local/bin:/usr/bin:/bin",
-            "HOME": home, "LANG": os.environ.get("LANG", "C.UTF-8"), "LAB_GRADING": "1", "LAB_STATIC": "1",
+            "HOME": home, "LANG": "C.UTF-8", "LAB_LANG": self.lang, "LAB_GRADING": "1", "LAB_STATIC": "1",
             "PYVISTA_OFF_SCREEN": "true", "VTK_DEFAULT_OPENGL_WINDOW": "vtkEGLRenderWindow", "MPLBACKEND": "Agg",
             "MPLCONFIGDIR": f"{home}/mpl", "IPYTHONDIR": f"{home}/ipython", "JUPYTER_RUNTIME_DIR": f"{home}/runtime",
             "JUPYTER_DATA_DIR": f"{home}/data", "JUPYTER_CONFIG_DIR": f"{home}/config",
@@ -220,7 +224,7 @@ class Sandbox:
         """
         self.cgroup = _pids_cgroup()
         if self.cgroup is None and os.getuid() == 0:
-            self.missing.append("process count limit (no writable pids cgroup; root ignores RLIMIT_NPROC)")
+            self.missing.append(_("process count limit (no writable pids cgroup; root ignores RLIMIT_NPROC)"))
         env = None if self.bwrap else {**self._env()}
         if not self.bwrap:
             Path(env["HOME"]).mkdir(exist_ok=True)
@@ -247,7 +251,7 @@ class Sandbox:
             proc.kill()
         proc.wait()
         if self.cgroup is not None:
-            for _ in range(50):
+            for _attempt in range(50):
                 pids = [int(p) for p in (self.cgroup / "cgroup.procs").read_text().split()]
                 if not pids:
                     break

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..i18n import _
 from .report import Case
 
 __all__ = ["CaseSpec", "Task", "close", "fmt", "judge_outcome"]
@@ -80,27 +81,29 @@ def judge_outcome(task, case, outcome, expected_fn):
 
             value = decode(outcome.get("value"))
             if isinstance(value, dict) != (task.protocol == "patches"):
-                raise ValueError(f"a result of the wrong kind for {task.name}")
+                raise ValueError(_("a result of the wrong kind for {task}").format(task=task.name))
         except (ValueError, TypeError) as exc:
-            return Case(case.name, False, task.summary, "", f"the result could not be read ({exc}).", "failed",
-                        case.weight)
+            return Case(case.name, False, _(task.summary), "", _("the result could not be read ({error}).").format(
+                error=exc), "failed", case.weight)
         try:
             passed, exp_text, got_text, hint = task.judge(case, value, expected_fn())
         except (ValueError, TypeError, IndexError, KeyError) as exc:  # malformed numbers: a failure, not a crash
-            passed, exp_text, got_text, hint = False, task.summary, "", f"the result could not be judged ({exc})."
+            passed, exp_text, got_text, hint = False, _(task.summary), "", _("the result could not be judged ({error}).").format(
+                error=exc)
         return Case(case.name, bool(passed), exp_text, got_text, "" if passed else hint,
                     "passed" if passed else "failed", case.weight)
     if status not in _STATUS:
-        status, message = "error", f"the check could not run this case ({status!r})"
+        status, message = "error", _("the check could not run this case ({status})").format(status=repr(status))
     hint = ""
     if status == "bad output":
-        hint = f"return {task.summary}." if task.summary else "return numbers."
-        return Case(case.name, False, task.summary, message, hint, "failed", case.weight)
+        hint = _("return {what}.").format(what=_(task.summary)) if task.summary else _("return numbers.")
+        return Case(case.name, False, _(task.summary), message, hint, "failed", case.weight)
     if status == "error" and task.error_hint is not None:
         hint = task.error_hint(case, message) or ""
     if status == "delegated":
-        hint = "write the computation yourself" + (f"; allowed helpers: {task.allowed}." if task.allowed else ".")
-        message = f"called {message}" if message else "called a withheld library function"
+        hint = (_("write the computation yourself; allowed helpers: {helpers}.").format(helpers=task.allowed)
+                if task.allowed else _("write the computation yourself."))
+        message = message or _("a withheld library function")
     return Case(case.name, False, "", message, hint, _STATUS[status], case.weight)
 
 
@@ -115,24 +118,24 @@ def build_report(task, specs, cases, *, graded=False, seed=None):
     if not any(c.passed for c, spec in zip(cases, specs) if not spec.guard):
         for c, spec in zip(cases, specs):
             if spec.guard and c.passed:
-                c.status, c.passed, c.got = "failed", False, "(right here, but nothing else is)"
-                c.hint = ("this case is flat, so a constant answer fits it by accident: it counts only "
-                          "when a curved case passes too.")
+                c.status, c.passed, c.got = "failed", False, _("(right here, but nothing else is)")
+                c.hint = _("this case is flat, so a constant answer fits it by accident: it counts only "
+                           "when a curved case passes too.")
     status = task_status(cases)
     message = ""
     first = next((c for c in cases if c.status == status), None) if status not in ("passed", "failed") else None
     if first is not None:
         if status == "not implemented":
-            message = first.got or f"{task.name} is not implemented yet."
+            message = first.got or _("{task} is not implemented yet.").format(task=task.name)
         elif status == "timeout":
-            message = f"{task.name} was {first.got}"
+            message = _("{task}: {message}").format(task=task.name, message=first.got)
         elif status == "delegated":
-            message = (f"Your {task.name} calls the library's own implementation ({first.got.removeprefix('called ')}). "
-                       "Write the computation yourself" + (f"; allowed helpers: {task.allowed}." if task.allowed else "."))
+            message = _("Your {task} calls the library's own implementation ({names}).").format(
+                task=task.name, names=first.got) + " " + first.hint[0].upper() + first.hint[1:]
         elif status == "error":
-            message = first.got + (f"\n(in the case: {first.name})" if len(cases) > 1 else "")
+            message = first.got + ("\n" + _("(in the case: {name})").format(name=first.name) if len(cases) > 1 else "")
             if first.hint:
-                message += f"\nhint: {first.hint}"
+                message += "\n" + _("hint:") + " " + first.hint
         elif status == "not run":
             message = first.got
     return Report(task.name, status, cases, message, graded, seed)

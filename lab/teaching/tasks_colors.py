@@ -4,9 +4,10 @@ import numpy as np
 
 from ..geometry import colormaps
 from ..geometry.curvature import zero_tolerance
+from ..i18n import N_, _
 from ..model.patches import BezierPatches
 from .hints import diagnose_colors, diagnose_values, visualize_error_hint
-from .references import MODE_FIELD, exact_corners, expected_colors, model_size, rand_net, value_tolerance
+from .references import MODE_FIELD, MODE_LABELS, exact_corners, expected_colors, model_size, rand_net, value_tolerance
 from .spec import CaseSpec, Task, close, fmt
 from .tasks_curvature import BEZIER_BLOCK, CURVATURE_BLOCK
 
@@ -28,11 +29,12 @@ VISUALIZE_BLOCK = CURVATURE_BLOCK + BEZIER_BLOCK + (
 )
 
 
-def _scalar_judge(hint_fn, what="one number"):
+def _scalar_judge(hint_fn, what=N_("one number")):
     def judge(case, value, exp):
         exp = np.asarray(exp, dtype=float)
         if not isinstance(value, np.ndarray) or value.shape != exp.shape:
-            return False, fmt(exp), fmt(value) if isinstance(value, np.ndarray) else repr(value), f"return {what}."
+            got = fmt(value) if isinstance(value, np.ndarray) else repr(value)
+            return False, fmt(exp), got, _("return {what}.").format(what=_(what))
         ok = bool(np.all(np.isfinite(value))) and close(value, exp, rtol=1e-9)
         return ok, fmt(exp), fmt(value), "" if ok else hint_fn(case.args, value, exp)
 
@@ -50,14 +52,14 @@ def _h_cases(rng, graded):
 def _h_hint(args, val, exp):
     x = args[0]
     if np.all(val == np.round(val)) and np.max(val) > 1:
-        return "colours are (r, g, b) in [0, 1], not 0–255."
+        return _("colours are (r, g, b) in [0, 1], not 0–255.")
     piece = min(int(x * 4), 3)
-    return f"check the piece for x in [{piece / 4:g}, {(piece + 1) / 4:g}]: " + [
+    return _("check the piece for x in [{a}, {b}]: ").format(a=f"{piece / 4:g}", b=f"{(piece + 1) / 4:g}") + [
         "(0, 4x, 1)", "(0, 1, 2 − 4x)", "(4x − 2, 1, 0)", "(1, 4 − 4x, 0)"][piece]
 
 
-H = Task("h", _h_cases, lambda c: colormaps.h(c.args[0]), _scalar_judge(_h_hint, "an (r, g, b) tuple"),
-         blocked=COLOR_BLOCK, summary="an (r, g, b) tuple")
+H = Task("h", _h_cases, lambda c: colormaps.h(c.args[0]), _scalar_judge(_h_hint, N_("an (r, g, b) tuple")),
+         blocked=COLOR_BLOCK, summary=N_("an (r, g, b) tuple"))
 
 
 def _f1_cases(rng, graded):
@@ -66,14 +68,14 @@ def _f1_cases(rng, graded):
 
 
 F1 = Task("f1", _f1_cases, lambda c: min(max(c.args[0], 0.0), 1.0),
-          _scalar_judge(lambda a, v, e: "values below 0 give 0, above 1 give 1, others stay."),
-          blocked=COLOR_BLOCK, summary="one number")
+          _scalar_judge(lambda a, v, e: _("values below 0 give 0, above 1 give 1, others stay.")),
+          blocked=COLOR_BLOCK, summary=N_("one number"))
 
 
 def _f2_cases(rng, graded):
     cases = [CaseSpec("f2(3, 1, 5)", (3.0, 1.0, 5.0)), CaseSpec("f2(-2, -2, 6)", (-2.0, -2.0, 6.0)),
-             CaseSpec("all values equal: f2(0.7, 0.7, 0.7)", (0.7, 0.7, 0.7))]
-    for _ in range(4 if graded else 1):
+             CaseSpec(_("all values equal: f2(0.7, 0.7, 0.7)"), (0.7, 0.7, 0.7))]
+    for _k in range(4 if graded else 1):
         lo, hi = sorted(rng.integers(-20, 20, 2) / 4)
         hi = hi + 1
         cases.append(CaseSpec(f"f2(x, {lo:g}, {hi:g})", (float(rng.uniform(lo, hi)), float(lo), float(hi))))
@@ -83,26 +85,28 @@ def _f2_cases(rng, graded):
 def _f2_hint(args, val, exp):
     x, lo, hi = args
     if hi == lo:
-        return "when all curvature values are equal, κmax − κmin = 0 and the quotient is 0/0: return 0.5 (green) in that case."
-    return "f2(x) = (x − κmin) / (κmax − κmin)."
+        return _("when all curvature values are equal, κmax − κmin = 0 and the quotient is 0/0: "
+                 "return 0.5 (green) in that case.")
+    return _("f2(x) = (x − κmin) / (κmax − κmin).")
 
 
 def _f2_error_hint(case, message):
     if "ZeroDivision" in message:
-        return "when all curvature values are equal, κmax − κmin = 0; return 0.5 (green) in that case instead of dividing."
+        return _("when all curvature values are equal, κmax − κmin = 0; return 0.5 (green) in that case "
+                 "instead of dividing.")
     return ""
 
 
 F2 = Task("f2", _f2_cases, lambda c: 0.5 if c.args[2] == c.args[1] else (c.args[0] - c.args[1]) / (c.args[2] - c.args[1]),
-          _scalar_judge(_f2_hint), blocked=COLOR_BLOCK, error_hint=_f2_error_hint, summary="one number")
+          _scalar_judge(_f2_hint), blocked=COLOR_BLOCK, error_hint=_f2_error_hint, summary=N_("one number"))
 
 
 def _f3_cases(rng, graded):
     cases = [CaseSpec(f"f3({x:g})", (x,)) for x in (-2.0, 0.0, 0.5)]
-    cases += [CaseSpec(f"rounding noise: f3({x:g})", (x,)) for x in (1e-17, -3e-16)]
+    cases += [CaseSpec(_("rounding noise: f3({x})").format(x=f"{x:g}"), (x,)) for x in (1e-17, -3e-16)]
     # the tolerance belongs to the model (its size): a fixed one in the function fails one of these
-    cases += [CaseSpec("a large model's genuine small value: f3(3e-12, tol=1e-14)", (3e-12, 1e-14)),
-              CaseSpec("a coarse model's rounding noise: f3(-4e-7, tol=1e-6)", (-4e-7, 1e-6))]
+    cases += [CaseSpec(_("a large model's genuine small value: f3(3e-12, tol=1e-14)"), (3e-12, 1e-14)),
+              CaseSpec(_("a coarse model's rounding noise: f3(-4e-7, tol=1e-6)"), (-4e-7, 1e-6))]
     if graded:
         cases += [CaseSpec(f"f3({x:g})", (x,)) for x in (-1e-3, 1e-4)]
     return cases
@@ -119,22 +123,24 @@ def _f3_hint(args, val, exp):
     tol = args[1] if len(args) > 1 else 1e-9
     if abs(x) <= tol:
         if len(args) > 1:
-            return f"|x| = {abs(x):g} is below the tolerance tol = {tol:g} you were given: use tol, not a fixed number."
-        return ("computed curvature is rounding noise around 0 (a flat region gives K ≈ 1e-17): "
-                "compare |x| with the tolerance tol instead of x == 0.")
+            return _("|x| = {x} is below the tolerance tol = {tol} you were given: use tol, not a fixed number.").format(
+                x=f"{abs(x):g}", tol=f"{tol:g}")
+        return _("computed curvature is rounding noise around 0 (a flat region gives K ≈ 1e-17): "
+                 "compare |x| with the tolerance tol instead of x == 0.")
     if len(args) > 1:
-        return f"tol = {tol:g} was given and |x| = {abs(x):g} is larger: use the tolerance you are given, not a fixed one."
-    return "f3 is 0 for negative, 0.5 for zero, 1 for positive values."
+        return _("tol = {tol} was given and |x| = {x} is larger: use the tolerance you are given, not a fixed one.").format(
+            tol=f"{tol:g}", x=f"{abs(x):g}")
+    return _("f3 is 0 for negative, 0.5 for zero, 1 for positive values.")
 
 
 def _f3_error_hint(case, message):
     if "TypeError" in message and len(case.args) > 1:
-        return "f3 takes the model's tolerance as its second argument: def f3(x, tol=1e-9)."
+        return _("f3 takes the model's tolerance as its second argument: def f3(x, tol=1e-9).")
     return ""
 
 
 F3 = Task("f3", _f3_cases, _f3_expected, _scalar_judge(_f3_hint), blocked=COLOR_BLOCK, error_hint=_f3_error_hint,
-          summary="one number")
+          summary=N_("one number"))
 
 
 # -- visualize_curvature --------------------------------------------------------------------------------------
@@ -144,35 +150,35 @@ def _visualize_cases(rng, graded):
     """Cases of the practical's task: (nets, depth, mode, map); the nets are refined here, not by the student."""
     big = 2.0**20  # |K| about 1e-18 absolute: below any absolute tolerance a student would write
     specs = [
-        ("one 3×3 patch, Gaussian curvature, linear map", [rand_net(rng, 3, 3)], 0, "gaussian", "linear"),
-        ("three 2×3 patches, mean curvature", [rand_net(rng, 2, 3) for _ in range(3)], 0, "mean", "linear"),
-        ("two 3×2 patches, κ1 (max)", [rand_net(rng, 3, 2) for _ in range(2)], 0, "k1", "linear"),
-        ("two 2×3 patches refined once, κ2 (min)", [rand_net(rng, 2, 3) for _ in range(2)], 1, "k2", "linear"),
-        ("two 3×2 patches, Gaussian curvature, cut map", [rand_net(rng, 3, 2) for _ in range(2)], 0, "gaussian", "cut"),
-        ("two 2×3 patches, classification map", [rand_net(rng, 2, 3) for _ in range(2)], 0, "gaussian", "classification"),
-        ("umbilic corners (paraboloid vertices), κ1", [rand_net(rng, 2, 3, "umbilic") for _ in range(6)], 0, "k1", "linear"),
-        ("plane z = 0, linear map (all values equal)", [rand_net(rng, 2, 2, "level")], 0, "gaussian", "linear"),
-        ("tilted flat patch refined once, classification map", [rand_net(rng, 3, 2, "flat")], 1, "gaussian", "classification"),
-        ("tilted flat patch, linear map (rounding noise only: one colour)", [rand_net(rng, 2, 3, "flat")], 0, "gaussian", "linear"),
-        ("a tilted flat patch beside a curved one, classification map",
+        (N_("one 3×3 patch, Gaussian curvature, linear map"), [rand_net(rng, 3, 3)], 0, "gaussian", "linear"),
+        (N_("three 2×3 patches, mean curvature"), [rand_net(rng, 2, 3) for _k in range(3)], 0, "mean", "linear"),
+        (N_("two 3×2 patches, κ1 (max)"), [rand_net(rng, 3, 2) for _k in range(2)], 0, "k1", "linear"),
+        (N_("two 2×3 patches refined once, κ2 (min)"), [rand_net(rng, 2, 3) for _k in range(2)], 1, "k2", "linear"),
+        (N_("two 3×2 patches, Gaussian curvature, cut map"), [rand_net(rng, 3, 2) for _k in range(2)], 0, "gaussian", "cut"),
+        (N_("two 2×3 patches, classification map"), [rand_net(rng, 2, 3) for _k in range(2)], 0, "gaussian", "classification"),
+        (N_("umbilic corners (paraboloid vertices), κ1"), [rand_net(rng, 2, 3, "umbilic") for _k in range(6)], 0, "k1", "linear"),
+        (N_("plane z = 0, linear map (all values equal)"), [rand_net(rng, 2, 2, "level")], 0, "gaussian", "linear"),
+        (N_("tilted flat patch refined once, classification map"), [rand_net(rng, 3, 2, "flat")], 1, "gaussian", "classification"),
+        (N_("tilted flat patch, linear map (rounding noise only: one colour)"), [rand_net(rng, 2, 3, "flat")], 0, "gaussian", "linear"),
+        (N_("a tilted flat patch beside a curved one, classification map"),
          [rand_net(rng, 3, 2, "flat"), rand_net(rng, 3, 2)], 0, "gaussian", "classification"),
-        ("a large, gently curved bowl and saddle (|K| ≈ 1e-4 relative to the size), classification map",
+        (N_("a large, gently curved bowl and saddle (|K| ≈ 1e-4 relative to the size), classification map"),
          [rand_net(rng, 3, 2, "bowl", big), rand_net(rng, 3, 2, "saddle", big)], 0, "gaussian", "classification"),
     ]
     if graded:
         specs += [
-            ("three 2×4 patches refined twice, mean curvature", [rand_net(rng, 2, 4) for _ in range(3)], 2, "mean", "linear"),
-            ("two 4×2 patches, κ2, classification map", [rand_net(rng, 4, 2) for _ in range(2)], 0, "k2", "classification"),
-            ("umbilic corner refined once, Gaussian curvature, cut map", [rand_net(rng, 3, 3, "umbilic")], 1, "gaussian", "cut"),
-            ("four 3×3 patches, κ1, cut map", [rand_net(rng, 3, 3) for _ in range(4)], 0, "k1", "cut"),
-            ("a gently curved bowl and saddle of ordinary size, classification map",
+            (N_("three 2×4 patches refined twice, mean curvature"), [rand_net(rng, 2, 4) for _k in range(3)], 2, "mean", "linear"),
+            (N_("two 4×2 patches, κ2, classification map"), [rand_net(rng, 4, 2) for _k in range(2)], 0, "k2", "classification"),
+            (N_("umbilic corner refined once, Gaussian curvature, cut map"), [rand_net(rng, 3, 3, "umbilic")], 1, "gaussian", "cut"),
+            (N_("four 3×3 patches, κ1, cut map"), [rand_net(rng, 3, 3) for _k in range(4)], 0, "k1", "cut"),
+            (N_("a gently curved bowl and saddle of ordinary size, classification map"),
              [rand_net(rng, 2, 3, "bowl"), rand_net(rng, 2, 3, "saddle")], 0, "gaussian", "classification"),
         ]
     cases = []
     for name, nets, depth, mode, cmap in specs:
         refined = BezierPatches(np.array(nets)).refine(depth).control_points.copy()
         flat = name.startswith(("tilted flat", "plane z = 0"))
-        cases.append(CaseSpec(name, (refined, mode, cmap), info={"size": model_size(refined)}, guard=flat))
+        cases.append(CaseSpec(_(name), (refined, mode, cmap), info={"size": model_size(refined)}, guard=flat))
     return cases
 
 
@@ -187,24 +193,26 @@ def _visualize_judge(case, value, exp):
     values, colours = exp["values"], exp["colors"]
     got_v, got_c = value["curvature"], value["colors"]
     if got_v.shape != values.shape or got_c.shape != colours.shape:
-        return (False, f"values {values.shape}, colours {colours.shape}", f"{got_v.shape}, {got_c.shape}",
-                "keep the collection's patches: call set_curvature and set_colors on each patch.")
+        return (False, _("values {a}, colours {b}").format(a=values.shape, b=colours.shape), f"{got_v.shape}, {got_c.shape}",
+                _("keep the collection's patches: call set_curvature and set_colors on each patch."))
     missing = np.isnan(got_v).all(axis=(1, 2))
     if np.any(missing):
         k = int(np.argmax(missing))
-        return (False, "set_curvature called for every patch", f"patch {k} (of {len(nets)}) has no curvature values",
-                "call patch.set_curvature(c00, c01, c10, c11) for every patch of the collection.")
+        return (False, _("set_curvature called for every patch"),
+                _("patch {k} (of {n}) has no curvature values").format(k=k, n=len(nets)),
+                _("call patch.set_curvature(c00, c01, c10, c11) for every patch of the collection."))
     # at umbilics κ1, κ2 = H ± √(H² − K) are only accurate to √eps relative
     tol = value_tolerance(values, mode, case.info["size"], 1e-7 if mode in ("k1", "k2") else 1e-8)
     if not np.all(np.abs(got_v - values) <= tol):
-        return (False, f"{mode} at the corners: {fmt(values)}", fmt(got_v), diagnose_values(nets, mode, got_v, values))
+        return (False, _("{mode} at the corners: {values}").format(mode=_(MODE_LABELS[mode]), values=fmt(values)), fmt(got_v),
+                diagnose_values(nets, mode, got_v, values))
     if np.isnan(got_c).all(axis=(1, 2, 3)).any():
-        return (False, "set_colors called for every patch", "some patches have no colours",
-                "call patch.set_colors(c00, c01, c10, c11) with (r, g, b) tuples for every patch.")
+        return (False, _("set_colors called for every patch"), _("some patches have no colours"),
+                _("call patch.set_colors(c00, c01, c10, c11) with (r, g, b) tuples for every patch."))
     if np.all(np.abs(got_c - colours) <= 1e-6):
         return True, "", "", ""
     noise = zero_tolerance(mode, case.info["size"])
-    return False, f"colours {fmt(colours, 3)}", fmt(got_c, 3), diagnose_colors(values, got_c, cmap, noise)
+    return False, _("colours {colours}").format(colours=fmt(colours, 3)), fmt(got_c, 3), diagnose_colors(values, got_c, cmap, noise)
 
 
 def _visualize_error_hint(case, message):
@@ -214,4 +222,4 @@ def _visualize_error_hint(case, message):
 VISUALIZE_CURVATURE = Task(
     "visualize_curvature", _visualize_cases, _visualize_expected, _visualize_judge, protocol="patches",
     blocked=VISUALIZE_BLOCK, allowed="lab.colormaps.h, f1, f2, f3, math, numpy", error_hint=_visualize_error_hint,
-    summary="the curvature stored with set_curvature and the colours stored with set_colors for every patch")
+    summary=N_("the curvature stored with set_curvature and the colours stored with set_colors for every patch"))

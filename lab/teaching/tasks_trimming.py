@@ -5,6 +5,7 @@ from fractions import Fraction
 import numpy as np
 
 from ..interrogation.trimming import loops as _loops
+from ..i18n import N_, _
 from .spec import CaseSpec, Task, close
 from .tasks_colors import _scalar_judge
 
@@ -33,17 +34,18 @@ def _cases(rng, graded):
     either orientation, and a loop whose first point is repeated at the end (the area must not change)."""
     square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     cases = [
-        CaseSpec("unit square, counter-clockwise (area +1)", (square,)),
-        CaseSpec("unit square, clockwise (area -1)", (square[::-1].copy(),)),
-        CaseSpec("triangle (0, 0), (4, 0), (0, 3), far from the origin: shifted by (100, -50)",
+        CaseSpec(_("unit square, counter-clockwise (area +1)"), (square,)),
+        CaseSpec(_("unit square, clockwise (area -1)"), (square[::-1].copy(),)),
+        CaseSpec(_("triangle (0, 0), (4, 0), (0, 3), far from the origin: shifted by (100, -50)"),
                  (np.array([[100.0, -50.0], [104.0, -50.0], [100.0, -47.0]]),)),
     ]
     for k in range(4 if graded else 2):
         clockwise = bool(k % 2)
         P = _star(rng, int(rng.integers(5, 10)), clockwise)
-        cases.append(CaseSpec(f"random {len(P)}-gon, {'clockwise' if clockwise else 'counter-clockwise'}", (P,)))
+        name = (_("random {k}-gon, clockwise") if clockwise else _("random {k}-gon, counter-clockwise")).format(k=len(P))
+        cases.append(CaseSpec(name, (P,)))
     P = _star(rng, 6, False)
-    cases.append(CaseSpec("closed explicitly: the first point repeated at the end", (np.vstack([P, P[:1]]),)))
+    cases.append(CaseSpec(_("closed explicitly: the first point repeated at the end"), (np.vstack([P, P[:1]]),)))
     return cases
 
 
@@ -52,20 +54,20 @@ def _hint(args, val, exp):
     Q = np.roll(P, -1, axis=0)
     open_sum = 0.5 * float(np.sum(P[:-1, 0] * Q[:-1, 1] - Q[:-1, 0] * P[:-1, 1]))
     if close(val, -exp) and exp < 0:
-        return "the area is signed: a clockwise loop (a hole) must give a negative area, so no abs()."
+        return _("the area is signed: a clockwise loop (a hole) must give a negative area, so no abs().")
     if close(val, -exp):
-        return "the sign: a counter-clockwise loop has positive area, A = ½ Σ (u_i v_(i+1) − u_(i+1) v_i)."
+        return _("the sign: a counter-clockwise loop has positive area, A = ½ Σ (u_i v_(i+1) − u_(i+1) v_i).")
     if close(val, 2 * exp):
-        return "the factor ½ is missing: A = ½ Σ (u_i v_(i+1) − u_(i+1) v_i)."
+        return _("the factor ½ is missing: A = ½ Σ (u_i v_(i+1) − u_(i+1) v_i).")
     if close(val, open_sum):
-        return "the closing edge from the last point back to the first is missing (np.roll(P, -1, axis=0))."
-    return "the shoelace formula: A = ½ Σ_i (u_i v_(i+1) − u_(i+1) v_i), indices modulo k."
+        return _("the closing edge from the last point back to the first is missing (np.roll(P, -1, axis=0)).")
+    return _("the shoelace formula: A = ½ Σ_i (u_i v_(i+1) − u_(i+1) v_i), indices modulo k.")
 
 
 #: ``func(loop)``: the signed (shoelace) area of a closed polyline, positive when counter-clockwise.
 #: ``seeds/002`` 2.1: the outer trimming loop runs counter-clockwise (positive area) and holes run clockwise
 #: (negative), so the trimmed region lies to the left of every loop.
 SIGNED_AREA = Task("signed_area", _cases, lambda c: _exact_area(c.args[0]),
-                   _scalar_judge(_hint, "one number (the signed area)"),
+                   _scalar_judge(_hint, N_("one number (the signed area)")),
                    blocked=("lab.interrogation.trimming.loops.signed_area",),
-                   summary="one number (the signed area)")
+                   summary=N_("one number (the signed area)"))

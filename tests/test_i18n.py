@@ -1,0 +1,87 @@
+"""Messages in German: every marked message has a German text, the compiled catalogue is current, and the
+checks, hints and grader reports speak the language chosen (LAB_LANG, set_language, a notebook's language)."""
+
+import io
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import lab
+from lab import check, i18n
+
+babel = pytest.importorskip("babel")
+from babel.messages import extract, mofile, pofile  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+PO = i18n.LOCALE_DIR / "de" / "LC_MESSAGES" / "lab.po"
+MO = PO.with_suffix(".mo")
+PLACEHOLDER = re.compile(r"(?<!\{)\{([a-z_0-9]*)\}(?!\})")
+
+
+def extracted():
+    """The messages marked in the sources (``_`` and ``N_``), as ``make translations`` extracts them."""
+    out = set()
+    for path in sorted((ROOT / "lab").rglob("*.py")):
+        with open(path, "rb") as fh:
+            for _line, message, _comments, _context in extract.extract("python", fh, keywords={"_": None, "N_": None}):
+                out.add(message)
+    return out
+
+
+def catalogue():
+    with open(PO, "rb") as fh:
+        return pofile.read_po(fh)
+
+
+def test_every_message_has_a_german_text():
+    cat = catalogue()
+    missing = sorted(m for m in extracted() if not (cat.get(m) and cat.get(m).string))
+    assert missing == [], f"{len(missing)} messages without German text (make translations, then translate): {missing[:5]}"
+    fuzzy = [m.id for m in cat if m.id and m.fuzzy]
+    assert fuzzy == [], f"fuzzy (unchecked) translations: {fuzzy[:5]}"
+
+
+def test_translations_keep_their_placeholders():
+    for m in catalogue():
+        if m.id and m.string:
+            assert set(PLACEHOLDER.findall(m.id)) == set(PLACEHOLDER.findall(m.string)), (m.id, m.string)
+
+
+def test_the_compiled_catalogue_is_current():
+    with open(MO, "rb") as fh:
+        compiled = {m.id: m.string for m in mofile.read_mo(fh) if m.id}
+    assert compiled == {m.id: m.string for m in catalogue() if m.id and m.string}, "run make translations"
+
+
+def test_language_follows_lab_lang_and_set_language(monkeypatch):
+    monkeypatch.delenv("LAB_LANG", raising=False)
+    monkeypatch.setattr(i18n, "_chosen", None)
+    assert i18n.language() == "en"
+    monkeypatch.setenv("LAB_LANG", "de_DE.UTF-8")
+    assert i18n.language() == "de"
+    with i18n.using("en"):
+        assert i18n.language() == "en"
+    with pytest.raises(ValueError, match="language must be one of en, de; got 'fr'"):
+        i18n.set_language("fr")
+
+
+def test_checks_and_hints_speak_german():
+    def stub(k1, k2):
+        raise NotImplementedError
+
+    with i18n.using("de"):
+        rep = check.warmup(stub)
+        wrong = check.warmup(lambda k1, k2: k1 * k2)
+    assert "noch nicht implementiert" in str(rep)
+    assert "Gaußsche Krümmung" in str(wrong) and "Erster fehlgeschlagener Fall" in str(wrong)
+    assert "not implemented yet" in str(check.warmup(stub))  # and English outside
+
+
+def test_kernel_started_with_lab_lang_speaks_german():
+    code = "from lab import check\nprint(check.warmup(lambda a, b: a * b))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={"LAB_LANG": "de", "PATH": "/usr/bin:/bin"}).stdout
+    assert "Gaußsche Krümmung" in out
