@@ -1,7 +1,6 @@
 """The autograder: solutions get full marks, exercises zero, broken submissions a readable report (English and German)."""
 
 import csv
-import functools
 import json
 import shutil
 from pathlib import Path
@@ -25,12 +24,6 @@ def name(path):
     return f"{path.parent.name}/{path.stem}"
 
 
-@functools.lru_cache(maxsize=None)
-def graded(path):
-    """The grading result of a committed notebook (shared by the tests of one process)."""
-    return grading.grade_notebook(path, timeout=300)
-
-
 def real_errors(result):
     """Cell errors other than the library's withheld reference implementations."""
     return [e for e in result.cell_errors if e.get("kind") not in grading.WITHHELD]
@@ -43,7 +36,7 @@ def test_both_languages_are_graded():
 @pytest.mark.parametrize("path", SOLUTIONS, ids=name)
 def test_solution_executes_and_gets_full_marks(path):
     before = path.read_bytes()
-    result = graded(path)
+    result = grading.grade_notebook(path, timeout=300)
     assert not result.error, result.text()
     assert real_errors(result) == [], result.text()
     assert result.passed and result.score == result.max_score, result.text()
@@ -55,7 +48,7 @@ def test_solution_executes_and_gets_full_marks(path):
 @pytest.mark.parametrize("path", EXERCISES, ids=name)
 def test_exercise_scores_zero_with_not_implemented(path):
     before = path.read_bytes()
-    result = graded(path)
+    result = grading.grade_notebook(path, timeout=300)
     assert not result.error, result.text()
     assert result.score == 0
     assert not result.passed or not result.tasks
