@@ -192,13 +192,15 @@ class Sandbox:
         if not self.bwrap:
             return list(argv)
         cmd = [shutil.which("bwrap"), "--unshare-net", "--unshare-pid", "--unshare-ipc", "--unshare-uts",
-               "--unshare-cgroup-try", "--die-with-parent", "--new-session", "--cap-drop", "ALL"]
+               "--unshare-cgroup-try", "--die-with-parent", "--new-session", "--cap-drop", "ALL",
+               # the private /tmp first: the binds below go on top of it (a course checked out under /tmp
+               # keeps its Python and its lab copy visible)
+               "--tmpfs", "/tmp", "--dir", "/tmp/home", "--proc", "/proc", "--dev", "/dev"]
         for p in SYSTEM_PATHS:
             cmd += ["--ro-bind-try", p, p]
         for p in sorted({sys.base_prefix, sys.prefix, str(Path(sys.executable).resolve().parent.parent)}):
             cmd += ["--ro-bind", p, p]
         cmd += ["--ro-bind", str(self.package), str(LAB_DIR),
-                "--tmpfs", "/tmp", "--dir", "/tmp/home", "--proc", "/proc", "--dev", "/dev",
                 "--bind", str(self.workdir), "/grade", "--chdir", "/grade", "--clearenv"]
         for k, v in self._env().items():
             cmd += ["--setenv", k, v]
