@@ -1,4 +1,4 @@
-# Two commands: `make lab` (set up, open JupyterLab on exercises/) and `make test` (set up, run every test).
+# Two commands: `make lab` (set up, open JupyterLab on exercises/en or exercises/de) and `make test` (set up, run every test).
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
@@ -8,6 +8,9 @@ TEST_STAMP := $(VENV)/.installed-test
 APT_PACKAGES := libegl1 libgl1-mesa-dri
 TEST_APT_PACKAGES := chromium bubblewrap
 PORT ?= 8888
+# The lab's language: German with `make lab LANG=de` or a German system locale (LANG=de_DE.UTF-8 …), English otherwise.
+# It selects exercises/<lang>, JupyterLab's interface language and LAB_LANG (checks, hints, labels) for the kernels.
+LAB_LANGUAGE := $(if $(filter de%,$(LANG)),de,en)
 
 .PHONY: lab test setup system-deps venv clean benchmarks exercises translations
 
@@ -28,9 +31,9 @@ OVERRIDES := $(VENV)/share/jupyter/lab/settings/overrides.json
 
 # A student's set-up installs what the lab needs; the test set-up adds the test tools (pytest, Playwright,
 # JupyterHub, potpourri3d …) and configurable-http-proxy (npm) for the JupyterHub test.
-$(STAMP): pyproject.toml jupyter/overrides.json | $(PY)
+$(STAMP): pyproject.toml jupyter/overrides.json jupyter/settings.py | $(PY)
 	$(PIP) install -q -e .
-	mkdir -p $(dir $(OVERRIDES)) && cp jupyter/overrides.json $(OVERRIDES)
+	$(PY) jupyter/settings.py $(LAB_LANGUAGE) $(OVERRIDES)
 	@touch $(STAMP)
 
 $(TEST_STAMP): $(STAMP)
@@ -41,15 +44,19 @@ $(TEST_STAMP): $(STAMP)
 
 setup: system-deps $(STAMP)
 
+# JupyterLab's settings override (jupyter/overrides.json) with the interface language, then JupyterLab on exercises/<lang>.
 lab: setup
-	$(PY) -m jupyter lab --notebook-dir=exercises --port=$(PORT) $(if $(DISPLAY),,--no-browser) \
-	  $(if $(filter 0,$(shell id -u)),--allow-root,)
+	$(PY) jupyter/settings.py $(LAB_LANGUAGE) $(OVERRIDES)
+	LAB_LANG=$(LAB_LANGUAGE) $(PY) -m jupyter lab --notebook-dir=exercises/$(LAB_LANGUAGE) --port=$(PORT) \
+	  $(if $(DISPLAY),,--no-browser) $(if $(filter 0,$(shell id -u)),--allow-root,)
 
 test: EXTRA_APT = $(TEST_APT_PACKAGES)
 test: system-deps $(TEST_STAMP)
+	$(PY) jupyter/settings.py en $(OVERRIDES)
 	$(PY) -m pytest -n 2
 
-# Regenerate exercises/ from solutions/ (refuses to overwrite exercises a student has edited).
+# Regenerate exercises/en, exercises/de, solutions/en and solutions/de from the bilingual sources solutions/NN_*.ipynb
+# (refuses to overwrite notebooks edited since they were generated, e.g. a student's exercise).
 exercises: setup
 	$(PY) -m lab.teaching.notebooks
 

@@ -31,8 +31,8 @@ import nbformat
 from lab.teaching import assignments, grading, sandbox
 
 ROOT = Path(__file__).resolve().parent.parent
-SOLUTION = ROOT / "solutions" / "05_visualize_curvature.ipynb"
-EXERCISE = ROOT / "exercises" / "05_visualize_curvature.ipynb"
+SOLUTION = ROOT / "solutions" / "en" / "05_visualize_curvature.ipynb"
+EXERCISE = ROOT / "exercises" / "en" / "05_visualize_curvature.ipynb"
 
 
 def phases(use_bwrap):

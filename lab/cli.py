@@ -119,7 +119,7 @@ def build_parser():
     r.add_argument("-o", "--output", required=True, help="output file (.png, .html, .off, .vtk, .vtp, .bez)")
     r.set_defaults(func=_render)
     sub.add_parser("grade", help="grade a notebook or a folder of submissions (curvature-lab grade --help)", add_help=False)
-    sub.add_parser("exercises", help="generate exercises/ from solutions/ (curvature-lab exercises --help)", add_help=False)
+    sub.add_parser("exercises", help="generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/ (curvature-lab exercises --help)", add_help=False)
     return parser
 
 

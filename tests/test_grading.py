@@ -1,4 +1,4 @@
-"""The autograder: solutions get full marks, exercises zero, broken submissions a readable report."""
+"""The autograder: solutions get full marks, exercises zero, broken submissions a readable report (English and German)."""
 
 import csv
 import json
@@ -9,11 +9,19 @@ import nbformat
 import pytest
 
 from lab import grading
-from lab.teaching import sandbox
+from lab.teaching import assignments, sandbox
 
 ROOT = Path(__file__).resolve().parent.parent
-SOLUTIONS = sorted((ROOT / "solutions").glob("*.ipynb"))
-EXERCISES = sorted((ROOT / "exercises").glob("*.ipynb"))
+LANGS = ("en", "de")
+SOLUTIONS = [p for lang in LANGS for p in sorted((ROOT / "solutions" / lang).glob("*.ipynb"))]
+EXERCISES = [p for lang in LANGS for p in sorted((ROOT / "exercises" / lang).glob("*.ipynb"))]
+SOLUTION = ROOT / "solutions" / "en"
+EXERCISE = ROOT / "exercises" / "en"
+NOT_IMPLEMENTED = {"en": "not implemented yet", "de": "noch nicht implementiert"}
+
+
+def name(path):
+    return f"{path.parent.name}/{path.stem}"
 
 
 def real_errors(result):
@@ -21,7 +29,11 @@ def real_errors(result):
     return [e for e in result.cell_errors if e.get("kind") not in grading.WITHHELD]
 
 
-@pytest.mark.parametrize("path", SOLUTIONS, ids=lambda p: p.stem)
+def test_both_languages_are_graded():
+    assert len(SOLUTIONS) == len(EXERCISES) == 22
+
+
+@pytest.mark.parametrize("path", SOLUTIONS, ids=name)
 def test_solution_executes_and_gets_full_marks(path):
     before = path.read_bytes()
     result = grading.grade_notebook(path, timeout=300)
@@ -33,17 +45,40 @@ def test_solution_executes_and_gets_full_marks(path):
     assert path.read_bytes() == before  # never modified
 
 
-@pytest.mark.parametrize("path", EXERCISES, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", EXERCISES, ids=name)
 def test_exercise_scores_zero_with_not_implemented(path):
     before = path.read_bytes()
     result = grading.grade_notebook(path, timeout=300)
     assert not result.error, result.text()
     assert result.score == 0
     assert not result.passed or not result.tasks
+    assert result.assignment == path.stem and result.max_score == assignments.load(EXERCISE / path.name).max_score
+    lang = path.parent.name
     for task in result.tasks:
         assert task["status"] == "not implemented", result.text()
-        assert "not implemented yet" in task["report"]
+        assert NOT_IMPLEMENTED[lang] in task["report"], result.text()  # the report speaks the notebook's language
+        if lang == "de":
+            assert NOT_IMPLEMENTED["en"] not in task["report"], result.text()
     assert path.read_bytes() == before
+
+
+def test_a_submission_finds_its_assignment_in_its_language_folder(tmp_path):
+    """Default folder exercises/: the id is found in exercises/de for a German submission, exercises/en for an English one."""
+    for lang in LANGS:
+        path = ROOT / "exercises" / lang / "05_visualize_curvature.ipynb"
+        found, notes = assignments.for_submission(nbformat.read(path, as_version=4), path)
+        assert Path(found.path) == path and notes == []
+    en = assignments.load(ROOT / "exercises" / "en" / "05_visualize_curvature.ipynb")
+    de = assignments.load(ROOT / "exercises" / "de" / "05_visualize_curvature.ipynb")
+    assert en.id == de.id and en.tasks == de.tasks and en.title != de.title
+    # a German submission graded against the English assignment: the same tasks, no note
+    nb = nbformat.read(ROOT / "solutions" / "de" / "05_visualize_curvature.ipynb", as_version=4)
+    found, notes = assignments.for_submission(nb, "x.ipynb", ROOT / "exercises" / "en" / "05_visualize_curvature.ipynb")
+    assert found.tasks == de.tasks and notes == []
+    # without an id, the file name is looked up in the language folders
+    del nb.metadata["lab"]["assignment"]
+    found, _ = assignments.for_submission(nb, tmp_path / "02_fundamental_forms.ipynb")
+    assert found.id == "02_fundamental_forms" and Path(found.path).parent.name == "de"
 
 
 def _with_cell(src, dst, index, source):
@@ -54,7 +89,7 @@ def _with_cell(src, dst, index, source):
 
 
 def test_endless_loop_cell_is_stopped_and_grading_goes_on(tmp_path):
-    path = _with_cell(ROOT / "solutions" / "00_start.ipynb", tmp_path / "00_start.ipynb", 2, "while True:\n    pass")
+    path = _with_cell(SOLUTION / "00_start.ipynb", tmp_path / "00_start.ipynb", 2, "while True:\n    pass")
     before = path.read_bytes()
     result = grading.grade_notebook(path, timeout=4)
     assert {"cell": 2, "error": "stopped after 4 s (endless loop?)", "kind": "timeout"} in result.cell_errors
@@ -63,7 +98,7 @@ def test_endless_loop_cell_is_stopped_and_grading_goes_on(tmp_path):
 
 
 def test_student_function_that_loops_is_stopped_inside_the_check(tmp_path):
-    nb = nbformat.read(ROOT / "solutions" / "00_start.ipynb", as_version=4)
+    nb = nbformat.read(SOLUTION / "00_start.ipynb", as_version=4)
     cell = next(c for c in nb.cells if "def mean_curvature" in c.source)
     cell.source = "def mean_curvature(k1, k2):\n    while True:\n        pass"
     nbformat.write(nb, tmp_path / "00_start.ipynb")
@@ -85,20 +120,20 @@ def test_unreadable_and_foreign_notebooks_give_messages(tmp_path):
 
 def test_tasks_and_points_come_from_the_instructor(tmp_path):
     """The submission's metadata cannot rename, add or re-weight tasks; a mismatch is reported."""
-    nb = nbformat.read(ROOT / "solutions" / "01_curves_and_orientation.ipynb", as_version=4)
+    nb = nbformat.read(SOLUTION / "01_curves_and_orientation.ipynb", as_version=4)
     nb.metadata["lab"]["tasks"] = [{"task": "curve_curvature", "object": "curvature", "points": 50}] * 2
     nbformat.write(nb, tmp_path / "01_curves_and_orientation.ipynb")
     result = grading.grade_notebook(tmp_path / "01_curves_and_orientation.ipynb")
     assert result.max_score == 2 and result.score == 2
     assert any("task list differs" in n for n in result.notes)
     other = grading.grade_notebook(tmp_path / "01_curves_and_orientation.ipynb",
-                                   assignment=ROOT / "exercises" / "00_start.ipynb")
+                                   assignment=EXERCISE / "00_start.ipynb")
     assert other.assignment == "00_start" and other.score == 0 and other.max_score == 1
     assert any("says it is assignment '01_curves_and_orientation'" in n for n in other.notes)
 
 
 def test_the_seed_is_recorded_and_reproduces_the_cases():
-    path = ROOT / "solutions" / "00_start.ipynb"
+    path = SOLUTION / "00_start.ipynb"
     a = grading.grade_notebook(path, seed=1234)
     b = grading.grade_notebook(path, seed=1234)
     c = grading.grade_notebook(path, seed=4321)
@@ -109,11 +144,11 @@ def test_the_seed_is_recorded_and_reproduces_the_cases():
 def test_folder_of_submissions_with_reports_summary_and_gradescope(tmp_path):
     subs = tmp_path / "submissions"
     (subs / "ada").mkdir(parents=True)
-    shutil.copy(ROOT / "solutions" / "01_curves_and_orientation.ipynb", subs / "ada" / "01_curves_and_orientation.ipynb")
-    shutil.copy(ROOT / "exercises" / "01_curves_and_orientation.ipynb", subs / "bob.ipynb")
+    shutil.copy(SOLUTION / "01_curves_and_orientation.ipynb", subs / "ada" / "01_curves_and_orientation.ipynb")
+    shutil.copy(EXERCISE / "01_curves_and_orientation.ipynb", subs / "bob.ipynb")
     out = tmp_path / "reports"
     code = grading.main([str(subs), "--out", str(out), "-j", "2", "--seed", "7", "--format", "gradescope",
-                         "--assignment", str(ROOT / "exercises" / "01_curves_and_orientation.ipynb")])
+                         "--assignment", str(EXERCISE / "01_curves_and_orientation.ipynb")])
     assert code == 1  # bob has not done the task
     rows = list(csv.DictReader(open(out / "summary.csv")))
     assert list(rows[0])[:4] == ["student", "notebook", "score", "max_score"]
@@ -129,19 +164,19 @@ def test_folder_of_submissions_with_reports_summary_and_gradescope(tmp_path):
 
 
 def test_cli_json_gradescope_and_exit_status(capsys):
-    path = ROOT / "solutions" / "00_start.ipynb"
+    path = SOLUTION / "00_start.ipynb"
     assert grading.main([str(path), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["score"] == data["max_score"] == 1 and data["tasks"][0]["cases"]
     assert grading.main([str(path), "--format", "gradescope"]) == 0
     gs = json.loads(capsys.readouterr().out)
     assert gs["score"] == 1 and gs["tests"][0]["name"] == "warmup (mean_curvature)"
-    assert grading.main([str(ROOT / "exercises" / "00_start.ipynb")]) == 1
+    assert grading.main([str(EXERCISE / "00_start.ipynb")]) == 1
     assert "not implemented yet" in capsys.readouterr().out
 
 
 def test_without_bubblewrap_the_report_names_the_missing_protections():
-    result = grading.grade_notebook(ROOT / "solutions" / "00_start.ipynb", sandbox=False)
+    result = grading.grade_notebook(SOLUTION / "00_start.ipynb", sandbox=False)
     assert result.score == 1
     assert any("network isolation" in m for m in result.missing_protections)
     assert "sandbox: missing" in result.text()
@@ -149,5 +184,5 @@ def test_without_bubblewrap_the_report_names_the_missing_protections():
 
 @pytest.mark.skipif(not sandbox.bwrap_works(), reason="bubblewrap cannot run here")
 def test_with_bubblewrap_no_protection_is_missing_but_the_process_limit_where_cgroups_are_read_only():
-    result = grading.grade_notebook(ROOT / "solutions" / "00_start.ipynb")
+    result = grading.grade_notebook(SOLUTION / "00_start.ipynb")
     assert all("process count" in m for m in result.missing_protections)

@@ -19,7 +19,7 @@ from lab.teaching import sandbox
 
 ROOT = Path(__file__).resolve().parent.parent
 HOSTILE = sorted((ROOT / "tests" / "data" / "hostile").glob("*.ipynb"))
-ASSIGNMENT = ROOT / "exercises" / "05_visualize_curvature.ipynb"
+ASSIGNMENT = ROOT / "exercises" / "en" / "05_visualize_curvature.ipynb"
 MARK = "lab-hostile-marker"
 
 ALTERNATIVE = '''
@@ -86,7 +86,7 @@ def graded(tmp_path_factory):
         (subs / path.stem).mkdir(parents=True)
         shutil.copy(path, subs / path.stem / "05_visualize_curvature.ipynb")
     (subs / "ada").mkdir()
-    shutil.copy(ROOT / "solutions" / "05_visualize_curvature.ipynb", subs / "ada" / "05_visualize_curvature.ipynb")
+    shutil.copy(ROOT / "solutions" / "en" / "05_visualize_curvature.ipynb", subs / "ada" / "05_visualize_curvature.ipynb")
     nb = nbformat.read(ASSIGNMENT, as_version=4)
     next(c for c in nb.cells if "class MyBezierPatches" in c.source).source = ALTERNATIVE.strip()
     (subs / "eve").mkdir()

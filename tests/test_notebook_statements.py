@@ -16,8 +16,8 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def run_cells(name, ids):
-    """Execute the first code cell and the cells ``ids`` of ``solutions/name``; their text output by id."""
-    nb = nbformat.read(ROOT / "solutions" / name, as_version=4)
+    """Execute the first code cell and the cells ``ids`` of ``solutions/en/name``; their text output by id."""
+    nb = nbformat.read(ROOT / "solutions" / "en" / name, as_version=4)
     code = [c for c in nb.cells if c.cell_type == "code"]
     missing = set(ids) - {c.id for c in code}
     assert not missing, f"{name} has no code cells {missing}"

@@ -1,11 +1,13 @@
 """Assignments: which tasks a notebook is graded on and for how many points (the instructor's, never the student's).
 
-An assignment is the instructor's copy of a notebook (an exercise or a solution of ``solutions/`` /
-``exercises/``): its metadata ``lab.tasks`` lists ``{"task", "object", "points"}`` and ``lab.assignment``
+An assignment is the instructor's copy of a notebook (an exercise or a solution of ``solutions/<lang>/`` /
+``exercises/<lang>/``): its metadata ``lab.tasks`` lists ``{"task", "object", "points"}`` and ``lab.assignment``
 is its id (the file's stem, e.g. ``05_visualize_curvature``).  A submission names its assignment by that
 id (exercises carry it); the grader looks the id up in the instructor's folder (``--assignment``, default:
-the project's ``exercises/``).  What the submission's own metadata says about tasks and points is ignored
-and only reported when it differs.
+the project's ``exercises/``), directly in it or in its language folders ``en/``, ``de/`` – the
+submission's language (``lab.lang``) first.  English and German notebooks of one assignment have the same id
+and the same tasks.  What the submission's own metadata says about tasks and points is ignored and only
+reported when it differs.
 """
 
 from dataclasses import dataclass
@@ -13,7 +15,7 @@ from pathlib import Path
 
 import nbformat
 
-from ..i18n import _
+from ..i18n import LANGUAGES, _
 from .tasks import TASKS
 
 __all__ = ["Assignment", "AssignmentError", "load", "for_submission", "DEFAULT_FOLDER"]
@@ -73,8 +75,8 @@ def for_submission(nb, path, assignment=None):
     """The instructor's assignment for a submission, and notes about mismatches.
 
     ``assignment``: a notebook (used as is), or a folder of instructor notebooks in which the
-    submission's assignment id (or, without one, its file name) is looked up; default the project's
-    ``exercises/``.
+    submission's assignment id (or, without one, its file name) is looked up, directly in it or in its
+    language folders (the submission's language ``lab.lang`` first); default the project's ``exercises/``.
     """
     meta = nb.metadata.get("lab", {}) if isinstance(nb.metadata.get("lab"), dict) else {}
     claimed = meta.get("assignment")
@@ -87,8 +89,11 @@ def for_submission(nb, path, assignment=None):
                 claimed=repr(claimed), id=repr(found.id)))
     else:
         key = str(claimed) if claimed is not None else Path(path).stem
-        candidate = where / f"{Path(key).name}.ipynb"
-        if not candidate.is_file():
+        name = f"{Path(key).name}.ipynb"
+        lang = str(meta.get("lang", ""))
+        folders = [where] + [where / code for code in sorted(LANGUAGES, key=lambda code: code != lang)]
+        candidate = next((f / name for f in folders if (f / name).is_file()), None)
+        if candidate is None:
             raise AssignmentError(_("cannot tell which assignment {path} is (id {id} not found in {where}); pass --assignment")
                                   .format(path=path, id=repr(key), where=where))
         found = load(candidate)

@@ -217,7 +217,8 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
     ----------
     path : str or Path
     assignment : str or Path, optional
-        The instructor's notebook, or a folder of them (default: the project's ``exercises/``).
+        The instructor's notebook, or a folder of them, looked up directly or in its language folders
+        ``en/``, ``de/`` (default: the project's ``exercises/``).
     seed : int, optional
         Seed of the cases (default: fresh; recorded in the result).
     timeout : float
@@ -350,7 +351,7 @@ def main(argv=None):
         prog="curvature-lab grade",
         description="Grade curvature-lab notebooks (one, or a folder of submissions) in a sandbox.")
     parser.add_argument("path", help="a notebook, or a folder of submissions")
-    parser.add_argument("--assignment", help="the instructor's notebook, or a folder of them (default: exercises/)")
+    parser.add_argument("--assignment", help="the instructor's notebook, or a folder of them (also its en/, de/; default: exercises/)")
     parser.add_argument("--out", help="folder for the reports and summary.csv (folder mode; default: <path>-reports)")
     parser.add_argument("-j", "--jobs", type=int, default=None, help="submissions graded in parallel (default: all cores)")
     parser.add_argument("--seed", type=int, default=None, help="seed of the cases (default: fresh, recorded in the report)")

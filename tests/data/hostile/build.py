@@ -11,7 +11,7 @@ from pathlib import Path
 import nbformat
 
 HERE = Path(__file__).resolve().parent
-EXERCISE = HERE.parents[2] / "exercises" / "05_visualize_curvature.ipynb"
+EXERCISE = HERE.parents[2] / "exercises" / "en" / "05_visualize_curvature.ipynb"
 MARK = "lab-hostile-marker"  # in the command line of every process an attack starts
 
 ATTACKS = {
@@ -124,8 +124,10 @@ import glob, json, os
 import lab
 
 found = []
-for pattern in ("/**/solutions/05_visualize_curvature.ipynb", "../**/05_visualize_curvature.ipynb",
-                os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(lab.__file__))), "solutions", "*.ipynb")):
+course = os.path.dirname(os.path.dirname(os.path.dirname(lab.__file__)))
+for pattern in ("/**/solutions/05_visualize_curvature.ipynb", "/**/solutions/*/05_visualize_curvature.ipynb",
+                "../**/05_visualize_curvature.ipynb", os.path.join(course, "solutions", "*.ipynb"),
+                os.path.join(course, "solutions", "*", "*.ipynb")):
     found += glob.glob(pattern, recursive=True)
 for path in found:
     nb = json.load(open(path))
