@@ -81,11 +81,14 @@ CASES = [
 ]
 
 
-#: Pairs (A, B) of parameters for geodesic_between.
+#: Pairs (A, B) of parameters for geodesic_between.  The practical's pairs were chosen (and the previous
+#: implementation's lengths measured) with u along x; the surface now runs u along y as the course program
+#: does, so the same points have their parameters swapped.
+_PRACTICAL_XY = [((1.0, 1.0), (6.0, 2.0)), ((1.0, 5.5), (5.5, 1.5)), ((0.5, 0.5), (6.5, 6.5)),
+                 ((2.0, 3.0), (5.0, 4.0)), ((3.5, 0.5), (3.5, 6.5)), ((0.3, 6.2), (6.1, 0.4)),
+                 ((4.9, 2.1), (1.2, 3.3)), ((2.5, 2.5), (4.5, 4.5)), ((6.0, 6.0), (1.0, 3.0))]
 PAIRS = {
-    "practical": [((1.0, 1.0), (6.0, 2.0)), ((1.0, 5.5), (5.5, 1.5)), ((0.5, 0.5), (6.5, 6.5)),
-                  ((2.0, 3.0), (5.0, 4.0)), ((3.5, 0.5), (3.5, 6.5)), ((0.3, 6.2), (6.1, 0.4)),
-                  ((4.9, 2.1), (1.2, 3.3)), ((2.5, 2.5), (4.5, 4.5)), ((6.0, 6.0), (1.0, 3.0))],
+    "practical": [(a[::-1], b[::-1]) for a, b in _PRACTICAL_XY],
     "paper fig. 2": [((0.7, 0.3), (0.2, 0.8)), ((0.1, 0.1), (0.9, 0.9)), ((0.5, 0.1), (0.5, 0.9)),
                      ((0.8, 0.6), (0.2, 0.3)), ((0.3, 0.5), (0.9, 0.2))],
 }

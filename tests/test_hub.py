@@ -66,7 +66,7 @@ def jupyterhub(root):
     (settings / "tracker.jupyterlab-settings").write_text('{"windowingMode": "none"}')
     for user in STUDENTS:
         (home / user).mkdir(parents=True)
-        shutil.copy(ROOT / "solutions" / NOTEBOOK, home / user / NOTEBOOK)
+        shutil.copy(ROOT / "solutions" / "en" / NOTEBOOK, home / user / NOTEBOOK)
     config = root / "jupyterhub_config.py"
     config.write_text(CONFIG.format(port=port, hub_port=hub_port, api_port=api_port, proxy=str(PROXY), home=str(home),
                                     settings=str(root / "settings"), db=str(root / "hub.sqlite"),
@@ -189,7 +189,7 @@ def test_exercises_handed_out_with_nbgitpuller_never_overwrite_edits(hub, tmp_pa
     url, root = hub
     course = tmp_path / "course"
     (course / "exercises").mkdir(parents=True)
-    exercise = sorted((ROOT / "exercises").rglob("00_start.ipynb"))[0]
+    exercise = ROOT / "exercises" / "en" / "00_start.ipynb"
     shutil.copy(exercise, course / "exercises" / "00_start.ipynb")
     _git(course, "init", "-q", "-b", "main")
     _git(course, "add", ".")
