@@ -1,13 +1,24 @@
-"""Offscreen pictures and HTML scenes of meshes with curvature colours (PyVista)."""
+"""Offscreen pictures and HTML scenes of meshes with curvature colours (PyVista), in the lab's one style.
 
+:func:`picture` (an RGB array), :func:`show` (for a notebook) and :func:`save`
+(a PNG file, used by the CLI and the gallery) draw a surface the way
+:mod:`lab.view.style` describes: fitted oblique camera, three-point light that
+keeps the colours true, a title, the colour bar or class legend in curvature
+units (:mod:`lab.view.legend`), padding, optional patch borders.
+"""
+
+import io
 import os
 
 import numpy as np
 import pyvista as pv
 
 from ..interrogation.reflection import VIEW_DIRECTION
+from . import style
+from .legend import Legend, legend as make_legend
 
-__all__ = ["configure_offscreen", "plot_mesh", "set_camera", "screenshot", "export_html", "show", "VIEW_DIRECTION"]
+__all__ = ["configure_offscreen", "plot_mesh", "set_camera", "picture", "save", "show", "screenshot", "export_html",
+           "VIEW_DIRECTION"]
 
 
 def configure_offscreen():
@@ -23,70 +34,111 @@ def configure_offscreen():
 
 def plot_mesh(mesh, plotter, *, show_edges=False, scalars=None, cmap="viridis", **kwargs):
     """Add a curvature mesh to ``plotter``: its ``RGB`` colours if present, else ``scalars`` with ``cmap``."""
+    kwargs = {**style.SURFACE_PROPERTIES, **kwargs}
+    if show_edges:
+        kwargs.setdefault("edge_color", "#3a3a3a")
+        kwargs.setdefault("line_width", 0.8)
     if scalars is None and "RGB" in mesh.cell_data:  # e.g. stripe mappings: one colour per facet
         return plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges, **kwargs)
     if scalars is None and "RGB" in mesh.point_data:
         return plotter.add_mesh(mesh, scalars="RGB", rgb=True, show_edges=show_edges, smooth_shading=True, **kwargs)
-    return plotter.add_mesh(mesh, scalars=scalars, cmap=cmap, show_edges=show_edges, smooth_shading=True, **kwargs)
+    return plotter.add_mesh(mesh, scalars=scalars, cmap=cmap, show_edges=show_edges, smooth_shading=True,
+                            show_scalar_bar=False, **kwargs)
 
 
-#: Default viewing direction (from the focal point towards the camera): from the front left, above.
-
-
-def set_camera(plotter, mesh, direction=VIEW_DIRECTION, zoom=1.0):
-    """Look at ``mesh`` from ``direction`` with z up; ``zoom`` > 1 fills more of the view than the bounding sphere."""
-    centre = np.asarray(mesh.center, dtype=float)
-    d = np.asarray(direction, dtype=float)
-    d /= np.linalg.norm(d)
-    plotter.camera_position = [tuple(centre + d * max(mesh.length, 1e-9)), tuple(centre), (0.0, 0.0, 1.0)]
-    plotter.reset_camera()
-    plotter.camera.zoom(zoom)
-
-
-def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=None):
-    """Render ``mesh`` offscreen to a PNG file and return the image as an array."""
-    configure_offscreen()
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-    plotter.set_background("white")
-    plot_mesh(mesh, plotter, show_edges=show_edges)
-    if title:
-        plotter.add_text(title, font_size=12, color="black")
-    set_camera(plotter, mesh)
-    image = plotter.screenshot(str(path), return_img=True)
-    plotter.close()
-    return np.asarray(image)
-
-
-def export_html(mesh, path, *, show_edges=False):
-    """Write an interactive HTML scene (vtk.js via trame) of ``mesh``."""
-    configure_offscreen()
-    plotter = pv.Plotter(off_screen=True)
-    plot_mesh(mesh, plotter, show_edges=show_edges)
-    set_camera(plotter, mesh)
-    plotter.export_html(str(path))
-    plotter.close()
+def set_camera(plotter, mesh, direction=None, zoom=1.0):
+    """Look at ``mesh`` from ``direction`` (default: the automatic oblique view) with z up, fitted to the view."""
+    style.fit_camera(plotter, mesh, direction)
+    if zoom != 1.0:
+        plotter.camera.zoom(zoom)
 
 
 def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
-    """A curvature mesh for patches, a surface or a mesh (see :func:`show`)."""
+    """A curvature mesh for patches, a surface or a mesh, and the legend its colours have (or None)."""
     from .. import mesh as _mesh
+    from ..geometry.curvature import CurvatureMode, zero_tolerance
     from ..model.patches import BezierPatches
 
+    options = dict(map_options or {})
+    coloured = curvature is not None and color_map is not None
     if isinstance(obj, pv.PolyData):
-        return obj
-    if isinstance(obj, BezierPatches):
-        if curvature is not None and color_map is not None:
+        mesh = obj
+        if coloured and "K" in mesh.point_data:
+            mesh = _mesh.color_curvature(mesh.copy(), curvature, color_map, **options)
+    elif isinstance(obj, BezierPatches):
+        if coloured:
             obj = obj.copy()
-            BezierPatches.visualize_curvature(obj, curvature, color_map, **(map_options or {}))
-        return _mesh.patches_mesh(obj, resolution=resolution)
-    if hasattr(obj, "derivatives") and hasattr(obj, "domain"):
-        return _mesh.surface_mesh(obj, n, n, curvature, color_map, **(map_options or {}))
-    raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
+            BezierPatches.visualize_curvature(obj, curvature, color_map, **options)
+        mesh = _mesh.patches_mesh(obj, resolution=resolution)
+    elif hasattr(obj, "derivatives") and hasattr(obj, "domain"):
+        mesh = _mesh.surface_mesh(obj, n, n, curvature, color_map, **options)
+    else:
+        raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
+    legend = None
+    if coloured and "values" in mesh.point_data:
+        mode = CurvatureMode(curvature).value
+        name = color_map.value if hasattr(color_map, "value") else str(color_map)
+        size = float(np.linalg.norm(np.ptp(np.asarray(mesh.points), axis=0)))
+        legend = make_legend(mode, name, np.asarray(mesh.point_data["values"]), options=options,
+                             tol=zero_tolerance(mode, size))
+    return mesh, legend
 
 
-def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=False, net=False, title=None,
-         resolution=1, n=64, direction=VIEW_DIRECTION, map_options=None):
-    """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
+def _scalar_legend(mesh):
+    """A plain bar for a mesh coloured by its active scalars (no curvature units known)."""
+    name = mesh.active_scalars_name
+    if name is None or name == "RGB" or mesh.active_scalars is None or np.asarray(mesh.active_scalars).ndim != 1:
+        return None
+    v = np.asarray(mesh.active_scalars, dtype=float)
+    v = v[np.isfinite(v)]
+    if not v.size:
+        return None
+    from .legend import _linear_ticks
+
+    lo, hi = float(v.min()), float(v.max())
+    from matplotlib import colormaps as mpl_colormaps
+
+    cmap = mpl_colormaps["viridis"]
+    stops = tuple((float(t), tuple(float(c) for c in cmap(t)[:3])) for t in np.linspace(0, 1, 17))
+    return Legend(title=f"{name}  ", stops=stops, ticks=_linear_ticks(lo, hi), clim=(lo, hi))
+
+
+def _net_lines(obj):
+    P = np.asarray(obj.control_points)
+    P = P[None] if P.ndim == 3 else P
+    lines = []
+    for net_ in P:
+        lines += [pv.lines_from_points(row) for row in net_] + [pv.lines_from_points(col) for col in net_.transpose(1, 0, 2)]
+    return pv.merge(lines), P.reshape(-1, 3)
+
+
+def render_view(mesh, size, *, edges=False, net=None, direction=None, camera=None, background="white"):
+    """The bare 3D view of ``mesh`` in the lab's style (no frame), ``size`` = (width, height); RGB array."""
+    configure_offscreen()
+    plotter = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])], lighting="none")
+    try:
+        plotter.set_background(background)
+        if "RGB" in mesh.point_data or "RGB" in mesh.cell_data or mesh.active_scalars_name not in (None, "RGB"):
+            plot_mesh(mesh, plotter, show_edges=edges)
+        else:
+            plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True, **style.SURFACE_PROPERTIES,
+                             **({"edge_color": "#3a3a3a", "line_width": 0.8} if edges else {}))
+        if net is not None:
+            lines, points = net
+            plotter.add_mesh(lines, color="black", line_width=1)
+            plotter.add_points(points, color="black", point_size=5, render_points_as_spheres=True)
+        style.apply_lights(plotter)
+        azimuth, elevation = camera if camera is not None else (None, None)
+        fit_to = mesh if net is None else mesh.merge(pv.PolyData(net[1])) if mesh.n_points else pv.PolyData(net[1])
+        style.fit_camera(plotter, fit_to, direction, azimuth=azimuth, elevation=elevation)
+        return np.asarray(plotter.screenshot(None, return_img=True))[..., :3]
+    finally:
+        plotter.close()
+
+
+def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edges=False, net=False, title=None,
+            resolution=1, n=64, direction=None, camera=None, map_options=None, legend=True):
+    """A picture of patches, a surface or a mesh in the lab's style, as an RGB array (height, width, 3).
 
     Parameters
     ----------
@@ -94,41 +146,94 @@ def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=F
         Patches are shown with the colours their ``visualize_curvature`` stored
         (or, with ``curvature`` and ``color_map``, coloured by the library).
     curvature, color_map : str, optional
-        Colour a surface (or patches) by this curvature and map.
+        Colour by this curvature and map; the picture then has a colour bar
+        (or the classification legend) in curvature units.
+    window_size : (int, int)
+        Size of the whole picture in pixels.
     edges : bool
         Draw mesh edges (for patches at resolution 1: the patch borders).
     net : bool
         Draw the control nets of patches.
+    title : str, optional
+    camera : (float, float), optional
+        Azimuth and elevation in degrees (azimuth around z from +x, elevation
+        above the xy-plane); default: the automatic oblique view (see :mod:`lab.view.style`).
+    direction : (3,) array_like, optional
+        A view direction (from the surface towards the eye) instead of ``camera``.
     map_options : dict, optional
         Options of the colour map, e.g. ``{"vmin": -1, "vmax": 0.5}`` for Dill's bands.
+    legend : bool or Legend
+        Draw the colour bar or legend when the colours' meaning is known (True),
+        never (False), or this one.
+    """
+    mesh, known = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
+    if isinstance(legend, Legend):
+        chosen = legend
+    elif legend:
+        chosen = known if known is not None else _scalar_legend(mesh)
+    else:
+        chosen = None
+    frame = style.layout(window_size, title, chosen)
+    net_data = _net_lines(obj) if net and hasattr(obj, "control_points") else None
+    view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, direction=direction, camera=camera)
+    return style.compose(view, frame, title=title, legend=chosen)
+
+
+def save(obj, path, curvature=None, color_map=None, **options):
+    """Write :func:`picture` to a PNG file and return the image."""
+    from PIL import Image
+
+    image = picture(obj, curvature, color_map, **options)
+    Image.fromarray(image).save(str(path), format="PNG", optimize=True)
+    return image
+
+
+def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), **options):
+    """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
+
+    Takes the arguments of :func:`picture`; the picture is 640 x 480 unless ``window_size`` says otherwise.
     """
     from IPython.display import Image
-
-    configure_offscreen()
-    mesh = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-    plotter.set_background("white")
-    if "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
-        plot_mesh(mesh, plotter, show_edges=edges)
-    else:
-        plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True)
-    if net and hasattr(obj, "control_points"):
-        P = np.asarray(obj.control_points)
-        P = P[None] if P.ndim == 3 else P
-        lines = []
-        for net_ in P:
-            lines += [pv.lines_from_points(row) for row in net_] + [pv.lines_from_points(col) for col in net_.transpose(1, 0, 2)]
-        plotter.add_mesh(pv.merge(lines), color="black", line_width=1)
-        plotter.add_points(P.reshape(-1, 3), color="black", point_size=5, render_points_as_spheres=True)
-    if title:
-        plotter.add_text(title, font_size=11, color="black")
-    set_camera(plotter, mesh, direction)
-    png = plotter.screenshot(None, return_img=True)
-    plotter.close()
-    import io
-
     from PIL import Image as PILImage
 
     buf = io.BytesIO()
-    PILImage.fromarray(np.asarray(png)).save(buf, format="PNG")
+    PILImage.fromarray(picture(obj, curvature, color_map, window_size=window_size, **options)).save(buf, format="PNG")
     return Image(data=buf.getvalue(), format="png")
+
+
+def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=None):
+    """The bare offscreen rendering of ``mesh`` (no frame, no legend) to a PNG file; returns the image.
+
+    Kept for image references of the mesh colours alone; pictures for people come from :func:`picture`.
+    """
+    configure_offscreen()
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    plotter.set_background("white")
+    if "RGB" in mesh.cell_data:
+        plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges)
+    elif "RGB" in mesh.point_data:
+        plotter.add_mesh(mesh, scalars="RGB", rgb=True, show_edges=show_edges, smooth_shading=True)
+    else:
+        plotter.add_mesh(mesh, cmap="viridis", show_edges=show_edges, smooth_shading=True)
+    if title:
+        plotter.add_text(title, font_size=12, color="black")
+    centre = np.asarray(mesh.center, dtype=float)
+    d = np.asarray(VIEW_DIRECTION, dtype=float)
+    d /= np.linalg.norm(d)
+    plotter.camera_position = [tuple(centre + d * max(mesh.length, 1e-9)), tuple(centre), (0.0, 0.0, 1.0)]
+    plotter.reset_camera()
+    image = plotter.screenshot(str(path), return_img=True)
+    plotter.close()
+    return np.asarray(image)
+
+
+def export_html(mesh, path, *, show_edges=False, camera=None):
+    """Write an interactive HTML scene (vtk.js via trame) of ``mesh``, with the lab's camera and light."""
+    configure_offscreen()
+    plotter = pv.Plotter(off_screen=True, lighting="none")
+    plot_mesh(mesh, plotter, show_edges=show_edges)
+    style.apply_lights(plotter)
+    azimuth, elevation = camera if camera is not None else (None, None)
+    style.fit_camera(plotter, mesh, azimuth=azimuth, elevation=elevation)
+    plotter.export_html(str(path))
+    plotter.close()
