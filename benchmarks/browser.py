@@ -28,6 +28,7 @@ Usage: python benchmarks/browser.py [--repeat 10] [--backends client,server,tram
 """
 
 import argparse
+import math
 import os
 import shutil
 import statistics
@@ -79,8 +80,12 @@ def _drag_slider(page, explorer, selector, fraction):
 
 def _camera_drag(page, explorer, frame, seconds=2.0):
     """Drag across the view for ``seconds``; returns (pictures per second while dragging, lag after release in ms)."""
-    box = explorer.locator("iframe.pyvista").bounding_box()
-    cx, cy = box["x"] + box["width"] * 0.5, box["y"] + box["height"] * 0.55
+    iframe = explorer.locator("iframe.pyvista")
+    iframe.scroll_into_view_if_needed()
+    box = iframe.bounding_box()
+    viewport = page.viewport_size
+    top, bottom = max(box["y"], 0), min(box["y"] + box["height"], viewport["height"])
+    cx, cy = box["x"] + box["width"] * 0.5, (top + bottom) / 2
     wait_quiet(frame)
     page.mouse.move(cx, cy)
     t_down = now_ms(page)
@@ -89,7 +94,7 @@ def _camera_drag(page, explorer, frame, seconds=2.0):
     k = 0
     while time.perf_counter() - start < seconds:
         k += 1
-        page.mouse.move(cx + 120 * __import__("math").sin(k / 12), cy + 40 * __import__("math").cos(k / 17))
+        page.mouse.move(cx + 120 * math.sin(k / 12), cy + 40 * math.cos(k / 17))
         time.sleep(1 / 120)
     t_up = now_ms(page)
     page.mouse.up()

@@ -450,16 +450,14 @@ class Explorer:
         return self._widget
 
     def _repr_mimebundle_(self, include=None, exclude=None):
-        # The picture survives nbconvert and viewers without a widget manager.  Without a frontend
-        # (nbconvert, nbclient, grading) the explorer shows only that picture: a widget view would make
-        # nbconvert's HTML depend on widget JavaScript from the network.
-        bundle = {
-            "image/png": base64.b64encode(self.png()).decode(),
-            "text/plain": f"{self.title} (open the notebook in JupyterLab for the interactive view)",
-        }
+        # Without a frontend (nbconvert, nbclient, grading) the explorer shows a picture, which survives the
+        # conversion: a widget view would make nbconvert's HTML depend on widget JavaScript from the network.
+        # In a Jupyter session it shows the live view only: a picture would be an offscreen render in the kernel
+        # (time, and a GL context whose memory stays with the process); e.png() makes one on request.
+        text = {"text/plain": f"{self.title} (open the notebook in JupyterLab for the interactive view)"}
         if in_jupyter_session():
-            bundle.update(self.widget._repr_mimebundle_(include=include, exclude=exclude))
-        return bundle
+            return {**text, **self.widget._repr_mimebundle_(include=include, exclude=exclude)}
+        return {"image/png": base64.b64encode(self.png()).decode(), **text}
 
     def close(self):
         """Close the explorer: cancel its work, drop its callbacks, close its live view, plotter and widgets."""
@@ -479,18 +477,53 @@ class Explorer:
         if self._viewer is not None:
             _live.release(self._viewer, self.plotter)
             self._viewer = None
-        for widget in self._widgets + [self.status, self.progress, self.legend_view, self._view]:
-            if widget is not None:
-                widget.close()
+        for widget in self._widgets + [self.status, self.progress, self.legend_view, self._view, self._widget]:
+            _close_tree(widget)
         self._widgets.clear()
         self._view = self._widget = None
         self.plotter.close()
         self.plotter.deep_clean()
         _INSTANCES.discard(self)
+        self._drop_data()
+        _trim_memory()
+
+    def _drop_data(self):
+        """Let the meshes and arrays go even while something (IPython's ``Out``, a variable) keeps the explorer."""
+        for name, value in list(vars(self).items()):
+            if isinstance(value, (pv.DataObject, np.ndarray)) or (
+                    isinstance(value, dict) and any(isinstance(v, pv.DataObject) for v in value.values())):
+                setattr(self, name, None)
+            elif name in ("fan", "isodistance", "_current_patches", "_base", "source", "actor", "lut", "plotter"):
+                setattr(self, name, None)
 
     @property
     def closed(self):
         return self._closed
+
+
+def _trim_memory():
+    """Hand freed memory back to the system (glibc keeps freed blocks of the many threads' arenas otherwise)."""
+    import ctypes
+    import gc
+
+    gc.collect()
+    try:
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):  # not glibc
+        pass
+
+
+def _close_tree(widget):
+    """Close a widget with everything it made: its children, its layout and style widgets."""
+    if widget is None:
+        return
+    for child in getattr(widget, "children", ()) or ():
+        _close_tree(child)
+    for part in ("layout", "style"):
+        sub = getattr(widget, part, None)
+        if isinstance(sub, W.Widget):
+            sub.close()
+    widget.close()
 
 
 def _dropdown(options, value, description):

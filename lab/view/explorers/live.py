@@ -111,6 +111,13 @@ def release(viewer, plotter):
                 helper._vtk_core.GetObjectIdMap().FreeObject(render_window)
     viewer.views.clear()
     pv_ui._VIEWERS.pop(plotter._id_name, None)
+    # the view's scene and the layout's template stay in the shared trame state under the plotter's name: empty them
+    with contextlib.suppress(Exception):
+        state = server.state
+        for key, value in list(state.to_dict().items()):
+            if plotter._id_name in key and isinstance(value, (dict, list, str)) and len(value) > 0:
+                state[key] = None
+        state.flush()
     viewer.layout = None
     viewer.plotter = None
 
