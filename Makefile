@@ -8,7 +8,7 @@ APT_PACKAGES := libegl1 libgl1-mesa-dri
 TEST_APT_PACKAGES := chromium
 PORT ?= 8888
 
-.PHONY: lab test setup system-deps venv clean benchmarks exercises
+.PHONY: lab test setup system-deps venv clean benchmarks exercises docs
 
 # Debian packages that offscreen rendering (EGL) needs (and Chromium for the browser tests); installed only when missing.
 system-deps:
@@ -43,6 +43,10 @@ test: setup
 # Regenerate exercises/ from solutions/ (refuses to overwrite exercises a student has edited).
 exercises: setup
 	$(PY) -m lab.notebooks
+
+# Redraw every picture in docs/ (README pictures and docs/gallery/), deterministically.
+docs: setup
+	$(PY) -m lab.view.gallery
 
 benchmarks: setup
 	$(PY) benchmarks/curvature.py

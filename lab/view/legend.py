@@ -187,8 +187,9 @@ def _css(rgb):
 
 
 def _linear_ticks(lo, hi):
-    if not hi > lo:
-        return ((0.5, format_values([lo])[0]),)
+    if not hi - lo > 1e-6 * max(abs(lo), abs(hi)):  # one value (up to rounding): one label, in the middle
+        mid = 0.5 * (lo + hi)
+        return ((0.5, format_values([mid], spacing=max(abs(mid), 1e-300) * 1e-3)[0]),)
     ticks = nice_ticks(lo, hi)
     if ticks.size < 2:  # a range narrower than one round step: label the ends
         ticks = np.array([lo, hi])
@@ -316,4 +317,6 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
         stops = H_STOPS
     note = {"cut": "values below 0 and above 1 take the end colours (f1)",
             "percentile": "2nd to 98th percentile; values beyond take the end colours"}.get(color_map, "")
+    if hi > lo and not hi - lo > 1e-6 * max(abs(lo), abs(hi)):
+        note = f"all values {format_values([0.5 * (lo + hi)], spacing=abs(hi) * 1e-3)[0]} up to rounding ({_sci(hi - lo, 1)})"
     return Legend(title=title, stops=stops, ticks=_linear_ticks(lo, hi), clim=(lo, hi), note=note)

@@ -2,12 +2,13 @@
 
 * **Camera**: fitted to the surface from an oblique view.  Unless an azimuth
   and elevation are given, the view direction is chosen among a fixed set of
-  oblique directions (elevation 20°, 35° or 50° above the xy-plane) as the
-  one that sees the largest projected area of the surface (nearest 35° when
-  several come within 3%), so a graph surface is seen as
-  a landscape from above and a closed surface from a slant, never edge-on.
-  Then the camera is moved so that the projected surface fills the frame up to
-  a margin (perspective, a few fixed-point steps on the projected bounding box).
+  oblique directions (elevation 20° to 65° above the xy-plane, azimuth in
+  steps of 30°) as the one in which the surface fills most of the picture
+  (nearest 40° elevation when several come within 3%), so a graph surface is
+  seen as a landscape from above and a closed surface from a slant, never
+  edge-on.  Then the camera is moved so that the projected surface fills the
+  frame up to a margin (perspective, a few fixed-point steps on the projected
+  bounding box).
 * **Light**: three camera lights (key from the upper left, fill from the right,
   a weak back light) and a high ambient part, so that shading shows the shape
   but never darkens a flank: the colour is the data (every visible face keeps
@@ -24,7 +25,7 @@ import math
 import numpy as np
 import pyvista as pv
 
-__all__ = ["SURFACE_PROPERTIES", "apply_lights", "fit_camera", "view_direction", "compose", "Frame", "layout"]
+__all__ = ["SURFACE_PROPERTIES", "apply_lights", "fit_camera", "view_direction", "compose", "Frame", "layout", "bar_box"]
 
 #: Material of coloured surfaces: mostly ambient and diffuse, a hint of specular.
 SURFACE_PROPERTIES = {"ambient": 0.5, "diffuse": 0.5, "specular": 0.08, "specular_power": 30.0}
@@ -37,9 +38,9 @@ _LIGHTS = (
 )
 
 #: Candidate view directions (azimuth, elevation in degrees) for the automatic camera, in order of preference.
-_CANDIDATES = tuple((az, el) for el in (35, 50, 20) for az in (-60, -30, -90, -120, -150, 180, 150, 120, 90, 60, 30, 0))
+_CANDIDATES = tuple((az, el) for el in (35, 50, 20, 65) for az in (-60, -30, -90, -120, -150, 180, 150, 120, 90, 60, 30, 0))
 DEFAULT_VIEW = (-60.0, 35.0)
-PREFERRED_ELEVATION = 35.0
+PREFERRED_ELEVATION = 50.0
 
 
 def apply_lights(plotter):
@@ -65,45 +66,61 @@ def _triangles(mesh, limit=20000):
     return np.asarray(tri.points)[faces]
 
 
-def view_direction(mesh, azimuth=None, elevation=None):
+def _fill(T, d, aspect):
+    """Fraction of a viewport of ``aspect`` that the triangles ``T`` cover when seen along ``d`` and fitted
+    (orthographic estimate: projected area over the area of the fitted viewport; overlaps count twice)."""
+    up = np.array([0.0, 0.0, 1.0]) if abs(d[2]) < 0.98 else np.array([0.0, 1.0, 0.0])
+    right = np.cross(up, d)
+    right /= np.linalg.norm(right)
+    P = T @ np.stack([right, np.cross(d, right)], axis=1)  # (t, 3, 2) screen coordinates
+    a, b = P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]
+    area = 0.5 * np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum()
+    w, h = np.ptp(P.reshape(-1, 2), axis=0)
+    if not (w > 0 and h > 0):
+        return 0.0
+    scale = min(aspect / w, 1.0 / h)
+    return float(area * scale**2 / aspect)
+
+
+def view_direction(mesh, azimuth=None, elevation=None, aspect=4 / 3):
     """The unit vector from the surface towards the camera.
 
     With ``azimuth`` and ``elevation`` (degrees; azimuth around z from +x,
     elevation above the xy-plane) that direction; a missing one is chosen: the
-    oblique view (elevation 20°, 35° or 50°) that sees the largest projected
-    area of the surface; among views within 3% of it, the one nearest 35°.
+    oblique view (elevation 20° to 65°) in which the surface fills most of a
+    viewport of ``aspect``; among views within 3% of the best, the one nearest
+    40° elevation, then the earlier candidate.
     """
     if azimuth is not None and elevation is not None:
         return _direction(azimuth, elevation)
     T = _triangles(mesh)
     if len(T) == 0:
         return _direction(*DEFAULT_VIEW)
-    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])  # 2 x area x unit normal
     scores = {}
     for az, el in _CANDIDATES:
         if azimuth is not None and not math.isclose((az - azimuth) % 360, 0.0, abs_tol=1e-9):
             continue
         if elevation is not None and el != elevation:
             continue
-        scores[(az, el)] = float(np.abs(n @ _direction(az, el)).sum())
+        scores[(az, el)] = _fill(T, _direction(az, el), aspect)
     if not scores:  # only one of the two given and not among the candidates
         best = (DEFAULT_VIEW[0] if azimuth is None else azimuth, DEFAULT_VIEW[1] if elevation is None else elevation)
         return _direction(*best)
     top = max(scores.values())
-    # oblique (elevations 20-50 degrees): the view that sees the largest projected area; among views within
-    # 3% of it, the one nearest 35 degrees elevation (scores within 1% tie: the earlier candidate wins)
-    good = [c for c in scores if scores[c] >= 0.97 * top]
+    good = [c for c in scores if scores[c] >= 0.95 * top]
     best = min(good, key=lambda c: (abs(c[1] - PREFERRED_ELEVATION), -round(scores[c] / top, 2), _CANDIDATES.index(c)))
     return _direction(*best)
 
 
-def fit_camera(plotter, mesh, direction=None, *, azimuth=None, elevation=None, margin=0.04, view_angle=30.0):
+def fit_camera(plotter, mesh, direction=None, *, azimuth=None, elevation=None, margin=0.03, view_angle=30.0):
     """Point the camera at ``mesh`` from ``direction`` (or azimuth/elevation, or the automatic choice).
 
     The projected surface is centred and fills the viewport up to ``margin``
     (a fraction of the viewport on each side), z up on the screen.
     """
-    d = view_direction(mesh, azimuth, elevation) if direction is None else np.asarray(direction, float)
+    width, height = plotter.window_size
+    aspect = width / max(height, 1)
+    d = view_direction(mesh, azimuth, elevation, aspect) if direction is None else np.asarray(direction, float)
     d = d / np.linalg.norm(d)
     up = np.array([0.0, 0.0, 1.0]) if abs(d[2]) < 0.98 else np.array([0.0, 1.0, 0.0])
     centre = np.asarray(mesh.center, dtype=float)
@@ -117,8 +134,6 @@ def fit_camera(plotter, mesh, direction=None, *, azimuth=None, elevation=None, m
     points = np.asarray(mesh.points, dtype=float)
     if len(points) > 20000:
         points = points[:: int(math.ceil(len(points) / 20000))]
-    width, height = plotter.window_size
-    aspect = width / max(height, 1)
     renderer = plotter.renderer
     for _ in range(4):
         renderer.ResetCameraClippingRange()
@@ -192,6 +207,14 @@ class Frame:
         self.legend = (W - pad - legend_w, pad + title_h, legend_w, H - 2 * pad - title_h)
 
 
+def bar_box(frame):
+    """Where the colour bar goes in a frame with a bar legend: (x, y, width, height) in pixels from the top left."""
+    lx, ly, lw, lh = frame.legend
+    px = frame.font * 100 / 72
+    bar_h = 0.6 * lh
+    return lx + 0.6 * px, ly + (lh - bar_h) / 2 + px, 1.1 * px, bar_h
+
+
 def layout(size, title=None, legend=None):
     """The :class:`Frame` of a picture of ``size`` (width, height) with an optional title and legend."""
     return Frame(size, title, legend)
@@ -222,10 +245,7 @@ def compose(image, frame, *, title=None, legend=None):
         px = fs * 100 / 72
         first, second = _title_lines(legend)
         if legend.is_bar:
-            bar_h = 0.6 * lh
-            bar_w = 1.1 * px
-            bx = lx + 0.6 * px
-            by = ly + (lh - bar_h) / 2 + px
+            bx, by, bar_w, bar_h = bar_box(frame)
             fig.text((bx) / W, 1 - (by - 2.3 * px) / H, first, ha="left", va="bottom", fontsize=fs, color="#1f2328")
             fig.text((bx) / W, 1 - (by - 0.8 * px) / H, second, ha="left", va="bottom", fontsize=fs, color="#1f2328")
             cax = fig.add_axes([bx / W, 1 - (by + bar_h) / H, bar_w / W, bar_h / H])
@@ -238,6 +258,12 @@ def compose(image, frame, *, title=None, legend=None):
             cax.set_ylim(0, 1)
             for spine in cax.spines.values():
                 spine.set_color("#555555")
+            if legend.note:
+                import textwrap
+
+                width = max(12, int(lw / (0.6 * 0.8 * px)))
+                fig.text(bx / W, 1 - (by + bar_h + 0.8 * px) / H, textwrap.fill(legend.note, width), ha="left",
+                         va="top", fontsize=fs * 0.8, color="#57606a", linespacing=1.2)
         else:
             n = len(legend.classes)
             row = 1.9 * px

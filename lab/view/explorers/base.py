@@ -51,7 +51,11 @@ import pyvista as pv
 from ...geometry.curvature import DegeneratePointWarning
 from .. import style
 from ..render import configure_offscreen
-from . import live as _live
+from .live import push_camera as _push_camera
+from .live import release as _release_view
+from .live import rendering as _rendering
+from .live import show as _show_live
+from .live import update as _update_live
 
 __all__ = ["Explorer", "live_view_possible", "in_jupyter_session", "callback_threads", "checkpoint"]
 
@@ -368,7 +372,7 @@ class Explorer:
         if mesh is not None and mesh.n_points:
             style.fit_camera(self.plotter, mesh)
         if self._viewer is not None:
-            _live.push_camera(self._viewer)
+            _push_camera(self._viewer)
 
     def refresh(self):
         """Show the current scene: push it to the live view, or render the static picture (main thread only)."""
@@ -376,7 +380,7 @@ class Explorer:
             return
         if self._viewer is not None:
             start = time.perf_counter()
-            _live.update(self._viewer)
+            _update_live(self._viewer)
             self.timings["push"] = time.perf_counter() - start
         elif isinstance(self._view, W.Image):
             self._view.value = self.png()
@@ -386,7 +390,7 @@ class Explorer:
 
     def screenshot(self):
         """The bare 3D view as an array (height, width, 3), rendered in the kernel."""
-        with _live.rendering(self.plotter):
+        with _rendering(self.plotter):
             self.plotter.render()
             return np.asarray(self.plotter.screenshot(None, return_img=True))[..., :3]
 
@@ -418,7 +422,7 @@ class Explorer:
     def _make_view(self):
         if self.live:
             try:
-                self._view, self._viewer = _live.show(self.plotter, self.backend, aspect=self.window_size)
+                self._view, self._viewer = _show_live(self.plotter, self.backend, aspect=self.window_size)
                 self.refresh()
                 return self._view
             except Exception as exc:  # no trame server here: fall back to pictures
@@ -475,7 +479,7 @@ class Explorer:
                 pass
         self._observers.clear()
         if self._viewer is not None:
-            _live.release(self._viewer, self.plotter)
+            _release_view(self._viewer, self.plotter)
             self._viewer = None
         for widget in self._widgets + [self.status, self.progress, self.legend_view, self._view, self._widget]:
             _close_tree(widget)
