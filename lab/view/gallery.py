@@ -24,12 +24,13 @@ PICTURES = [
     ("practical_gaussian_signed_log.png",
      "--surface practical --curvature gaussian --color-map signed-log --depth 3",
      "The same surface refined three times, with the signed-logarithmic map: the elliptic top of the bump (red to "
-     "yellow) and two gently convex regions (yellow-green, K ≈ 0.1), hyperbolic zones at the bump's foot (cyan, "
-     "K ≈ −1), and |K| below 0.1 everywhere else (green)."),
+     "yellow), hyperbolic zones on both sides of its foot (cyan, K ≈ −1), and |K| below 0.1 everywhere else "
+     "(green, yellow-green where slightly positive)."),
     ("gallery/practical_gaussian_classification.png",
      "--surface practical --curvature gaussian --color-map classification --depth 3",
      "Classification by the sign of K (h∘f3): elliptic (red) on the bump's top and in two gently convex regions, "
-     "hyperbolic (blue) everywhere else; the parabolic lines lie on the red–blue borders."),
+     "one behind the bump and one in front of it; hyperbolic (blue) everywhere else; the parabolic lines lie on "
+     "the red–blue borders."),
     ("gallery/practical_mean_symmetric.png",
      "--surface practical --curvature mean --color-map symmetric --depth 3",
      "Mean curvature H with the zero-centred map (green at H = 0): only the bump's top stands out. The sign of H, "

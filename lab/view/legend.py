@@ -55,7 +55,7 @@ def nice_ticks(lo, hi, n=5):
     lo, hi = float(lo), float(hi)
     if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
         return np.array([lo])
-    raw = (hi - lo) / max(n - 1, 1)
+    raw = (hi - lo) / max(n, 1)
     power = 10.0 ** math.floor(math.log10(raw))
     step = next((m * power for m in (1, 2, 2.5, 5, 10) if m * power >= raw * 0.999), 10 * power)
     first = math.ceil(lo / step - 1e-9) * step
@@ -286,7 +286,7 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
             classes = (("K > 0 elliptic", red), (f"K {zero} parabolic, flat", green), ("K < 0 hyperbolic", blue))
         else:
             classes = ((f"{symbol} > 0", red), (f"{symbol} {zero}", green), (f"{symbol} < 0", blue))
-        note = f"|{symbol}| ≤ {_sci(tol, 1)} counts as 0" if tol else ""
+        note = f"|{symbol}| ≤ {_minus(_sci(tol, 1))} counts as 0" if tol else ""
         return Legend(title=title, classes=classes, note=note)
     lo, hi = map_range(color_map, values, clim=clim, options=options)
     if color_map == "dill":
@@ -318,5 +318,6 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
     note = {"cut": "values below 0 and above 1 take the end colours (f1)",
             "percentile": "2nd to 98th percentile; values beyond take the end colours"}.get(color_map, "")
     if hi > lo and not hi - lo > 1e-6 * max(abs(lo), abs(hi)):
-        note = f"all values {format_values([0.5 * (lo + hi)], spacing=abs(hi) * 1e-3)[0]} up to rounding ({_sci(hi - lo, 1)})"
+        note = (f"all values {format_values([0.5 * (lo + hi)], spacing=abs(hi) * 1e-3)[0]} up to rounding "
+                f"({_minus(_sci(hi - lo, 1))})")
     return Legend(title=title, stops=stops, ticks=_linear_ticks(lo, hi), clim=(lo, hi), note=note)

@@ -3,10 +3,10 @@
 * **Camera**: fitted to the surface from an oblique view.  Unless an azimuth
   and elevation are given, the view direction is chosen among a fixed set of
   oblique directions (elevation 20° to 65° above the xy-plane, azimuth in
-  steps of 30°) as the one in which the surface fills most of the picture
-  (nearest 40° elevation when several come within 3%), so a graph surface is
-  seen as a landscape from above and a closed surface from a slant, never
-  edge-on.  Then the camera is moved so that the projected surface fills the
+  steps of 30°) as the one in which the surface faces the camera most
+  squarely and fills most of the picture (nearest 50° elevation when several
+  come within 5%), so a graph surface is seen as a landscape from above and a
+  closed surface from a slant, never edge-on.  Then the camera is moved so that the projected surface fills the
   frame up to a margin (perspective, a few fixed-point steps on the projected
   bounding box).
 * **Light**: three camera lights (key from the upper left, fill from the right,
@@ -86,23 +86,28 @@ def view_direction(mesh, azimuth=None, elevation=None, aspect=4 / 3):
     """The unit vector from the surface towards the camera.
 
     With ``azimuth`` and ``elevation`` (degrees; azimuth around z from +x,
-    elevation above the xy-plane) that direction; a missing one is chosen: the
-    oblique view (elevation 20° to 65°) in which the surface fills most of a
-    viewport of ``aspect``; among views within 3% of the best, the one nearest
-    40° elevation, then the earlier candidate.
+    elevation above the xy-plane) that direction; a missing one is chosen among
+    oblique views (elevation 20° to 65°): the one that maximises how squarely
+    the surface faces the camera (area-weighted mean of |N·d|; 0 is edge-on)
+    times how much of a viewport of ``aspect`` it fills; among views within 5%
+    of the best, the one nearest 50° elevation, then the earlier candidate.
     """
     if azimuth is not None and elevation is not None:
         return _direction(azimuth, elevation)
     T = _triangles(mesh)
     if len(T) == 0:
         return _direction(*DEFAULT_VIEW)
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])  # 2 x area x unit normal
+    total = float(np.linalg.norm(n, axis=1).sum()) or 1.0
     scores = {}
     for az, el in _CANDIDATES:
         if azimuth is not None and not math.isclose((az - azimuth) % 360, 0.0, abs_tol=1e-9):
             continue
         if elevation is not None and el != elevation:
             continue
-        scores[(az, el)] = _fill(T, _direction(az, el), aspect)
+        d = _direction(az, el)
+        facing = float(np.abs(n @ d).sum()) / total  # 1: the surface faces the camera, 0: edge-on
+        scores[(az, el)] = facing * _fill(T, d, aspect)
     if not scores:  # only one of the two given and not among the candidates
         best = (DEFAULT_VIEW[0] if azimuth is None else azimuth, DEFAULT_VIEW[1] if elevation is None else elevation)
         return _direction(*best)
