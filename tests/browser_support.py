@@ -298,7 +298,7 @@ def wait_quiet(frame, quiet=1.0, timeout=60.0):
 def kernel_value(nb, expression, timeout=180):
     """Evaluate ``expression`` in the notebook's kernel (through a new cell) and return the printed text."""
     marker = f"value-{secrets.token_hex(4)}"
-    out = nb.run_cell(f"print({marker!r}, {expression})", marker, timeout=timeout)
+    out = nb.run_cell(f"print({marker!r}, repr(({expression})))", marker, timeout=timeout)
     return out.split(marker, 1)[1].strip()
 
 
@@ -315,3 +315,64 @@ def process_rss_mb(pid):
         if line.startswith("VmRSS:"):
             return int(line.split()[1]) / 1024
     return float("nan")
+
+
+def rerun_cell(nb, index, timeout=300):
+    """Run the notebook's code cell number ``index`` again (as Shift+Enter on it would) and wait until idle."""
+    nb.page.evaluate(
+        """(index) => {
+            const nb = window.jupyterapp.shell.currentWidget;
+            let k = -1;
+            nb.content.widgets.forEach((cell, i) => { if (cell.model.type === 'code' && ++k === index) nb.content.activeCellIndex = i; });
+            return window.jupyterapp.commands.execute('notebook:run-cell');
+        }""",
+        index,
+    )
+    time.sleep(0.5)
+    return nb.wait_idle(timeout)
+
+
+def restart_kernel(nb, timeout=300):
+    """Restart the notebook's kernel (no dialog) and wait until it is idle again."""
+    nb.page.evaluate("async () => { await window.jupyterapp.shell.currentWidget.sessionContext.restartKernel(); }")
+    time.sleep(1.0)
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if nb.state()["status"] == "idle":
+            return
+        time.sleep(0.5)
+    raise TimeoutError(f"the kernel did not come back within {timeout} s")
+
+
+#: Geometry of an explorer in the page: its view and output area, clipped texts, labels outside their boxes.
+LAYOUT_JS = """
+(explorer) => {
+  const rect = (el) => { const r = el.getBoundingClientRect(); return {x: r.x, y: r.y, w: r.width, h: r.height}; };
+  const output = explorer.closest('.jp-OutputArea-output') || explorer.parentElement;
+  const view = explorer.querySelector('iframe.pyvista, .lab-static-view');
+  const clipped = [];
+  for (const el of explorer.querySelectorAll('.lab-controls *, .lab-legend-view *')) {
+    const text = Array.from(el.childNodes).filter(n => n.nodeType === 3).map(n => n.textContent).join('').trim();
+    const input = el.tagName === 'INPUT' && el.type === 'text';
+    if (!text && !input) continue;
+    const style = getComputedStyle(el);
+    if (style.display === 'none' || style.visibility === 'hidden' || el.clientWidth === 0) continue;
+    if (el.scrollWidth > el.clientWidth + 1 && style.overflowX !== 'visible')
+      clipped.push(`${el.tagName.toLowerCase()}.${el.className} "${(text || el.value).slice(0, 40)}" needs ${el.scrollWidth} px, has ${el.clientWidth}`);
+  }
+  const box = rect(explorer), out = rect(output);
+  const outside = [];
+  for (const el of explorer.querySelectorAll('.lab-colorbar-label, .lab-legend-item, .lab-controls .widget-inline-hbox, .lab-controls button')) {
+    const r = rect(el);
+    if (r.w === 0) continue;
+    if (r.x < Math.max(box.x, out.x) - 1 || r.x + r.w > Math.min(box.x + box.w, out.x + out.w) + 1)
+      outside.push(`${el.className} "${el.textContent.trim().slice(0, 30)}" at ${Math.round(r.x)}..${Math.round(r.x + r.w)}, box ${Math.round(box.x)}..${Math.round(box.x + box.w)}`);
+  }
+  return {view: view ? rect(view) : null, output: out, explorer: box, clipped, outside,
+          labels: explorer.querySelectorAll('.lab-colorbar-label, .lab-legend-item').length};
+}
+"""
+
+
+def layout_of(explorer):
+    return explorer.evaluate(LAYOUT_JS)

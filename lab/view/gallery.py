@@ -76,7 +76,8 @@ def main(argv=None):
             return status
         print(f"wrote {path}", file=sys.stderr)
         rel = name[len("gallery/"):] if name.startswith("gallery/") else f"../{name}"
-        lines += [f"![{caption}]({rel})", "", caption, "", f"    curvature-lab render {options} -o {name}", ""]
+        lines += [f"![{caption}]({rel})", "", caption, "",
+                  f"    curvature-lab render {options} --window-size {args.size} -o docs/{name}", ""]
     if not args.only:
         (out / "gallery" / "README.md").write_text("\n".join(lines))
     return 0

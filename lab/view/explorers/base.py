@@ -440,7 +440,7 @@ class Explorer:
             head = W.HBox([W.HTML(f"<b>{html.escape(self.title)}</b>", layout=W.Layout(flex="0 0 auto",
                                                                                        margin="0 1em 0 0")),
                            self.status, self.progress],
-                          layout=W.Layout(align_items="center", width="100%"))
+                          layout=W.Layout(align_items="center", width="auto", padding="0 0 0 4px"))
             controls = W.GridBox(self._controls(), layout=W.Layout(
                 width="100%", grid_template_columns="repeat(auto-fill, minmax(250px, 1fr))",
                 grid_gap="0px 14px", align_items="center"))
@@ -504,6 +504,11 @@ class Explorer:
     def closed(self):
         return self._closed
 
+    @property
+    def busy(self):
+        """Whether an action is still running or waiting to run on the event loop."""
+        return any(not task.done() for task in self._tasks.values())
+
 
 def _trim_memory():
     """Hand freed memory back to the system (glibc keeps freed blocks of the many threads' arenas otherwise)."""
@@ -531,12 +536,12 @@ def _close_tree(widget):
 
 
 def _dropdown(options, value, description):
-    return W.Dropdown(options=options, value=value, description=description, style=STYLE,
-                      layout=W.Layout(width="100%"))
+    return W.Dropdown(options=options, value=value, description=description, style=STYLE, layout=_layout())
 
 
 def _layout():
-    return W.Layout(width="100%")
+    """A control that fills its grid cell (auto, not 100%: the widget's own margin would overflow the cell)."""
+    return W.Layout(width="auto", min_width="0")
 
 
 class _Note(Exception):

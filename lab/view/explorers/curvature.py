@@ -111,9 +111,9 @@ class CurvatureExplorer(Explorer):
             tooltips=["min … max of the values", "−max|value| … +max|value|", "type min and max"]))
         self.range_mode.add_class("lab-range-mode")
         self.range_min = c(W.Text(value="", description="min", continuous_update=False, disabled=True,
-                                  style={"description_width": "30px"}, layout=W.Layout(width="50%")))
+                                  style={"description_width": "30px"}, layout=W.Layout(width="auto", flex="1 1 0", min_width="0")))
         self.range_max = c(W.Text(value="", description="max", continuous_update=False, disabled=True,
-                                  style={"description_width": "30px"}, layout=W.Layout(width="50%")))
+                                  style={"description_width": "30px"}, layout=W.Layout(width="auto", flex="1 1 0", min_width="0")))
         self.range_min.add_class("lab-range-min")
         self.range_max.add_class("lab-range-max")
         self.range_box = c(W.HBox([self.range_min, self.range_max], layout=_layout()))
@@ -145,7 +145,8 @@ class CurvatureExplorer(Explorer):
     def _controls(self):
         return [self.measure, self.color_map, self.range_mode, self.range_box, self.depth,
                 W.HBox([self.show_net, self.show_borders, self.fit_button],
-                       layout=W.Layout(width="100%", justify_content="space-between", align_items="center")),
+                       layout=W.Layout(width="auto", justify_content="space-between", align_items="center",
+                                       flex_flow="row wrap")),
                 self.info]
 
     # -- geometry -------------------------------------------------------------
@@ -345,8 +346,10 @@ class CurvatureExplorer(Explorer):
         return self.values()
 
     def picture_title(self):
-        name = self.source.name if hasattr(self.source, "name") and isinstance(self.source.name, str) else ""
-        return f"{name}, depth {self.depth.value}".lstrip(", ") if name else f"depth {self.depth.value}"
+        maps = {v: k for k, v in self.color_map.options}
+        what = _legend.MEASURES[self.measure.value][1] if self.measure.value != "classification" else "K"
+        mine = ", your visualize_curvature" if self.student is not None else ""
+        return f"{what}, {maps.get(self.color_map.value, self.color_map.value)}, depth {self.depth.value}{mine}"
 
     def _recolor_library(self):
         v = self.values()

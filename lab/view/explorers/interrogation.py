@@ -311,9 +311,9 @@ class GeodesicExplorer(Explorer):
         (u0, u1), (v0, v1) = self.source.domain
         W_, H_, m = 640.0, 260.0, 34.0
 
-        def xy(uv):
+        def xy(uv):  # the box spans x in [m, W - m], y in [m - 10, H - m - 10] (v upwards)
             x = m + (uv[:, 0] - u0) / (u1 - u0) * (W_ - 2 * m)
-            y = H_ - m + 10 - (uv[:, 1] - v0) / (v1 - v0) * (H_ - 2 * m)
+            y = H_ - m - 10 - (uv[:, 1] - v0) / (v1 - v0) * (H_ - 2 * m)
             return " ".join(f"{a:.1f},{b:.1f}" for a, b in zip(x, y))
 
         parts = []
@@ -328,10 +328,13 @@ class GeodesicExplorer(Explorer):
                'stroke="#57606a" stroke-width="1"/>')
         labels = "".join(
             f'<text x="{x}" y="{y}" font-size="11" fill="#1f2328" text-anchor="{a}">{html.escape(t)}</text>'
-            for x, y, a, t in ((m, H_ - 6, "middle", f"{u0:g}"), (W_ - m, H_ - 6, "middle", f"{u1:g}"),
-                               (W_ / 2, H_ - 6, "middle", "u"), (m - 4, H_ - m + 14, "end", f"{v0:g}"),
-                               (m - 4, m - 6, "end", f"{v1:g}"), (m - 12, H_ / 2, "end", "v"),
+            for x, y, a, t in ((m, H_ - m + 4, "middle", f"{u0:g}"), (W_ - m, H_ - m + 4, "middle", f"{u1:g}"),
+                               (W_ / 2, H_ - m + 4, "middle", "u"), (m - 4, H_ - m - 10, "end", f"{v0:g}"),
+                               (m - 4, m - 6, "end", f"{v1:g}"), (m - 12, H_ / 2 - 10, "end", "v"),
                                (W_ / 2, 14, "middle", "parameter domain")))
+        clip = (f'<clipPath id="lab-domain-clip"><rect x="{m}" y="{m - 10}" width="{W_ - 2 * m}" '
+                f'height="{H_ - 2 * m}"/></clipPath>')
         return (f'<svg viewBox="0 0 {W_:.0f} {H_:.0f}" style="width:100%;max-width:900px;height:auto;display:block;'
-                f'margin:0 auto" xmlns="http://www.w3.org/2000/svg">{box}{"".join(parts)}'
+                f'margin:0 auto" xmlns="http://www.w3.org/2000/svg"><defs>{clip}</defs>{box}'
+                f'<g clip-path="url(#lab-domain-clip)">{"".join(parts)}</g>'
                 f'<circle cx="{ox}" cy="{oy}" r="3" fill="black"/>{labels}</svg>')
