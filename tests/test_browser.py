@@ -261,6 +261,9 @@ def test_nothing_clipped_and_the_view_fills_the_output(browser, lab_server, tmp_
     nb.page.wait_for_timeout(3000)
     width = nb.page.evaluate("() => document.querySelector('.jp-NotebookPanel:not(.lm-mod-hidden)').clientWidth")
     assert width < 800, f"the notebook is not in a split view ({width} px wide)"
+    for k in range(nb.explorers().count()):  # the views follow the narrower output and still show the surface
+        img = nb.wait_for_picture(nb.explorers().nth(k), timeout=60)
+        assert coverage(img) > 0.03, f"explorer {k} is blank in the split view; see {nb.shot('split-blank')}"
     _check_layout(nb, "split")
     nb.page.close()
 

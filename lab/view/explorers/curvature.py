@@ -107,7 +107,7 @@ class CurvatureExplorer(Explorer):
                                    continuous_update=False, layout=_layout()))
         self.range_mode = c(W.ToggleButtons(
             options=[("auto", "auto"), ("± max", "symmetric"), ("manual", "manual")], value="auto",
-            description="range", style={**STYLE, "button_width": "auto"}, layout=_layout(),
+            description="range", style={"description_width": "46px", "button_width": "auto"}, layout=_layout(),
             tooltips=["min … max of the values", "−max|value| … +max|value|", "type min and max"]))
         self.range_mode.add_class("lab-range-mode")
         self.range_min = c(W.Text(value="", description="min", continuous_update=False, disabled=True,
