@@ -1,14 +1,16 @@
 """The lab's picture gallery: ``python -m lab.view.gallery`` (or ``make docs``) redraws every picture in ``docs/``.
 
-Each picture is made by the command line (``curvature-lab render``), with
-the options written next to it in ``docs/gallery/README.md``, so the README,
-the gallery and a student's own call give the same picture.  Rendering is
+Each picture is made by running the command line (``python -m lab.cli
+render``, in a subprocess: the CLI sits above this layer), with the options
+written next to it in ``docs/gallery/README.md``, so the README, the gallery
+and a student's own call give the same picture.  Rendering is
 deterministic (fixed sizes, the automatic camera is a fixed rule), so
 re-running the command after a change of the library redraws exactly what
 changed.
 """
 
 import argparse
+import subprocess
 import sys
 from pathlib import Path
 
@@ -61,8 +63,6 @@ def main(argv=None):
     parser.add_argument("--size", default="800x600", help="picture size (default: 800x600)")
     parser.add_argument("--only", help="only the pictures whose file name contains this text")
     args = parser.parse_args(argv)
-    from .. import cli
-
     out = Path(args.out)
     (out / "gallery").mkdir(parents=True, exist_ok=True)
     lines = ["# Gallery", "", "Made by `make docs` (`python -m lab.view.gallery`); each picture is one "
@@ -71,9 +71,12 @@ def main(argv=None):
         if args.only and args.only not in name:
             continue
         path = out / name
-        status = cli.main(["render", *options.split(), "--window-size", args.size, "--quiet", "-o", str(path)])
-        if status:
-            return status
+        command = [sys.executable, "-m", "lab.cli", "render", *options.split(), "--window-size", args.size, "--quiet",
+                   "-o", str(path)]
+        result = subprocess.run(command, capture_output=True, text=True)
+        if result.returncode:
+            print(result.stderr, file=sys.stderr)
+            return result.returncode
         print(f"wrote {path}", file=sys.stderr)
         rel = name[len("gallery/"):] if name.startswith("gallery/") else f"../{name}"
         lines += [f"![{caption}]({rel})", "", caption, "",
