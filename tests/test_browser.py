@@ -194,9 +194,13 @@ def _readouts(explorer):
 
 
 def _mapper_range(nb, mode):
-    text = _wait_value(nb, "e.range_mode.value, e.busy, tuple(float(x) for x in e.actor.mapper.scalar_range)",
-                       lambda t: repr(mode) in t and "False" in t)
-    return eval(text)[2]  # noqa: S307 - our own kernel's output
+    """The range the colours use once the kernel has taken the range mode ``mode`` and finished recolouring."""
+    expression = ("e.range_mode.value, e.busy, tuple(float(x) for x in e.actor.mapper.scalar_range), "
+                  "dict(e.counts), e.status.value")
+    text = _wait_value(nb, expression, lambda t: repr(mode) in t and ", False," in t)
+    got_mode, busy, used, counts, status = eval(text)  # noqa: S307 - our own kernel's output
+    assert got_mode == mode and not busy, f"the kernel did not take {mode!r}: {text}"
+    return used, text
 
 
 def _assert_same(shown, used, what):
@@ -207,15 +211,15 @@ def _assert_same(shown, used, what):
 def test_readouts_equal_the_range_the_colours_use(browser, lab_server, tmp_path):
     nb = _open(browser, lab_server, tmp_path, "readouts.ipynb", EXPLORERS[:2])
     ex = nb.explorers().first
-    used = _mapper_range(nb, "auto")
+    used, _ = _mapper_range(nb, "auto")
     _assert_same(_readouts(ex), used, "auto")
     ex.locator(".lab-range-mode button", has_text="± max").click()
-    used = _mapper_range(nb, "symmetric")
-    assert used[0] == pytest.approx(-used[1])
+    used, text = _mapper_range(nb, "symmetric")
+    assert used[0] == pytest.approx(-used[1]), text
     nb.page.wait_for_timeout(1500)
     _assert_same(_readouts(ex), used, "± max")
     ex.locator(".lab-range-mode button", has_text="manual").click()
-    manual = _mapper_range(nb, "manual")
+    manual, text = _mapper_range(nb, "manual")
     assert manual == pytest.approx(used)  # manual starts at the range used before, not min = max
     nb.page.wait_for_timeout(1500)
     _assert_same(_readouts(ex), manual, "manual")

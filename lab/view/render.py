@@ -159,7 +159,9 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         Azimuth and elevation in degrees (azimuth around z from +x, elevation
         above the xy-plane); default: the automatic oblique view (see :mod:`lab.view.style`).
     direction : (3,) array_like, optional
-        A view direction (from the surface towards the eye) instead of ``camera``.
+        A view direction (from the surface towards the eye) instead of ``camera``.  Stripe mappings and
+        reflection lines (view-dependent) are shown from :data:`VIEW_DIRECTION`, the eye they are computed
+        for by default, unless ``camera`` or ``direction`` is given.
     map_options : dict, optional
         Options of the colour map, e.g. ``{"vmin": -1, "vmax": 0.5}`` for Dill's bands.
     legend : bool or Legend
@@ -167,6 +169,9 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         never (False), or this one.
     """
     mesh, known = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
+    if direction is None and camera is None and ("box_lo" in mesh.field_data or "light_origin" in mesh.field_data):
+        # stripe mappings and reflection lines depend on the eye: show them from the one they were computed for
+        direction = VIEW_DIRECTION
     if isinstance(legend, Legend):
         chosen = legend
     elif legend:

@@ -162,6 +162,7 @@ class Explorer:
     """
 
     title = "explorer"
+    camera_direction = None  #: a fixed view direction for the camera; None: the lab's automatic oblique view
 
     def __init__(self, *, window_size=(800, 500), live=None, backend=None):
         configure_offscreen()
@@ -370,7 +371,7 @@ class Explorer:
         """Fit the camera to the surface (the lab's oblique view) and show it."""
         mesh = self._fit_mesh()
         if mesh is not None and mesh.n_points:
-            style.fit_camera(self.plotter, mesh)
+            style.fit_camera(self.plotter, mesh, self.camera_direction)
         if self._viewer is not None:
             _push_camera(self._viewer)
 
@@ -405,7 +406,7 @@ class Explorer:
             if not self.live:  # the static picture: fitted to its own aspect
                 mesh = self._fit_mesh()
                 if mesh is not None and mesh.n_points:
-                    style.fit_camera(self.plotter, mesh)
+                    style.fit_camera(self.plotter, mesh, self.camera_direction)
             image = self.screenshot()
         finally:
             self.plotter.window_size = list(old)

@@ -11,6 +11,7 @@ from ... import mesh as _mesh
 from ...geometry.curvature import DegeneratePointWarning
 from ...interrogation.geodesics import Fan, geodesic_fan, normal_section_fan, polar_isodistance
 from ...interrogation.meshes import as_curvature_mesh, focal_surface, isophotes, reflection_lines, stripe_mapping
+from ...interrogation.reflection import VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
 from .base import STYLE, Explorer, _dropdown, _layout, _Note, _polylines, checkpoint
@@ -87,6 +88,7 @@ class ReflectionExplorer(Explorer):
     """Reflection lines, isophotes and the striped box mapping on a surface (seeds/002, section 3)."""
 
     title = "reflection explorer"
+    camera_direction = VIEW_DIRECTION  # reflections depend on the eye: look from the one they are computed for
     KINDS = {"stripe box mapping": "stripes", "reflection lines (light lines)": "lines", "isophotes": "isophotes"}
 
     def __init__(self, surface, *, resolution=64, window_size=(800, 500), live=None, backend=None):
@@ -127,7 +129,7 @@ class ReflectionExplorer(Explorer):
                                                    **style.SURFACE_PROPERTIES)
         self.overlay = pv.PolyData()
         self.overlay_actor = None
-        style.fit_camera(self.plotter, self.surface_mesh)
+        style.fit_camera(self.plotter, self.surface_mesh, self.camera_direction)
         self._run(self.update_lines)
 
     def _fit_mesh(self):
