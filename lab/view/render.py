@@ -84,25 +84,6 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
     return mesh, legend
 
 
-def _scalar_legend(mesh):
-    """A plain bar for a mesh coloured by its active scalars (no curvature units known)."""
-    name = mesh.active_scalars_name
-    if name is None or name == "RGB" or mesh.active_scalars is None or np.asarray(mesh.active_scalars).ndim != 1:
-        return None
-    v = np.asarray(mesh.active_scalars, dtype=float)
-    v = v[np.isfinite(v)]
-    if not v.size:
-        return None
-    from .legend import _linear_ticks
-
-    lo, hi = float(v.min()), float(v.max())
-    from matplotlib import colormaps as mpl_colormaps
-
-    cmap = mpl_colormaps["viridis"]
-    stops = tuple((float(t), tuple(float(c) for c in cmap(t)[:3])) for t in np.linspace(0, 1, 17))
-    return Legend(title=f"{name}  ", stops=stops, ticks=_linear_ticks(lo, hi), clim=(lo, hi))
-
-
 def _net_lines(obj):
     P = np.asarray(obj.control_points)
     P = P[None] if P.ndim == 3 else P
@@ -118,7 +99,7 @@ def render_view(mesh, size, *, edges=False, net=None, direction=None, camera=Non
     plotter = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])], lighting="none")
     try:
         plotter.set_background(background)
-        if "RGB" in mesh.point_data or "RGB" in mesh.cell_data or mesh.active_scalars_name not in (None, "RGB"):
+        if "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
             plot_mesh(mesh, plotter, show_edges=edges)
         else:
             plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True, **style.SURFACE_PROPERTIES,
@@ -165,8 +146,8 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
     map_options : dict, optional
         Options of the colour map, e.g. ``{"vmin": -1, "vmax": 0.5}`` for Dill's bands.
     legend : bool or Legend
-        Draw the colour bar or legend when the colours' meaning is known (True),
-        never (False), or this one.
+        Draw the colour bar or legend when the colours' meaning is known (True: coloured here by
+        ``curvature`` and ``color_map``), never (False), or this one.  A mesh without colours is grey.
     """
     mesh, known = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
     if direction is None and camera is None and ("box_lo" in mesh.field_data or "light_origin" in mesh.field_data):
@@ -175,7 +156,7 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
     if isinstance(legend, Legend):
         chosen = legend
     elif legend:
-        chosen = known if known is not None else _scalar_legend(mesh)
+        chosen = known
     else:
         chosen = None
     frame = style.layout(window_size, title, chosen)
