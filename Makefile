@@ -12,7 +12,7 @@ PORT ?= 8888
 # It selects exercises/<lang>, JupyterLab's interface language and LAB_LANG (checks, hints, labels) for the kernels.
 LAB_LANGUAGE := $(if $(filter de%,$(LANG)),de,en)
 
-.PHONY: lab test setup system-deps venv clean benchmarks exercises translations
+.PHONY: lab test setup system-deps venv clean benchmarks exercises translations docs
 
 # Debian packages that offscreen rendering (EGL) needs (and Chromium for the browser tests); installed only when missing.
 system-deps:
@@ -67,6 +67,10 @@ translations: $(TEST_STAMP)
 	$(VENV)/bin/pybabel extract -k _ -k N_ --no-location --sort-output --project curvature-lab -o $(VENV)/lab.pot lab
 	$(VENV)/bin/pybabel update -i $(VENV)/lab.pot -d lab/i18n/locale -l de -D lab --no-fuzzy-matching --ignore-obsolete
 	$(VENV)/bin/pybabel compile -d lab/i18n/locale -l de -D lab --statistics
+
+# Redraw every picture in docs/ (README pictures and docs/gallery/), deterministically.
+docs: setup
+	$(PY) -m lab.view.gallery
 
 benchmarks: system-deps $(TEST_STAMP)
 	$(PY) benchmarks/curvature.py

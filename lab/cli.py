@@ -6,6 +6,7 @@ coloured Bézier patches for geomview (BEZ).
 """
 
 import argparse
+import re
 import sys
 import time
 import warnings
@@ -31,6 +32,7 @@ def _render(args, parser):
     from . import mesh as _mesh
     from .view import render
 
+    options = _map_options(args, parser)
     start = time.perf_counter()
     steps = 3 + args.depth
     with tqdm(total=steps, desc=f"{args.surface}", unit="step", disable=args.quiet, file=sys.stderr) as bar, \
@@ -46,22 +48,22 @@ def _render(args, parser):
                 patches.refine(1)
                 bar.update(1)
             bar.set_postfix_str(f"curvature at the corners of {len(patches)} patches")
-            patches.visualize_curvature(args.curvature, args.color_map)
+            patches.visualize_curvature(args.curvature, args.color_map, **options)
             mesh = _mesh.patches_mesh(patches, resolution=args.resolution)
         else:
             patches = None
             n = 16 * 2**args.depth * args.resolution + 1
             bar.update(args.depth)
             bar.set_postfix_str(f"curvature on a {n} x {n} grid")
-            mesh = _mesh.surface_mesh(surface, n, n, args.curvature, args.color_map)
+            mesh = _mesh.surface_mesh(surface, n, n, args.curvature, args.color_map, **options)
         bar.update(1)
         bar.set_postfix_str(f"writing {out.name}")
         suffix = out.suffix.lower()
         if suffix == ".png":
-            title = f"{args.surface}: {args.curvature}, {args.color_map}" if args.title else None
-            render.screenshot(mesh, out, window_size=args.window_size, show_edges=args.edges, title=title)
+            render.save(mesh, out, args.curvature, args.color_map, window_size=args.window_size, edges=args.edges,
+                        title=_title(args), camera=args.camera, map_options=options, legend=args.legend)
         elif suffix == ".html":
-            render.export_html(mesh, out, show_edges=args.edges)
+            render.export_html(mesh, out, show_edges=args.edges, camera=args.camera)
         elif suffix == ".off":
             _mesh.write_off(mesh, out)
         elif suffix == ".bez":
@@ -76,6 +78,52 @@ def _render(args, parser):
     if not args.quiet:
         print(f"wrote {out} ({mesh.n_points} points, {time.perf_counter() - start:.2f} s)", file=sys.stderr)
     return 0
+
+
+#: colour maps that take a range, and the keyword options --vmin / --vmax become
+RANGED_MAPS = {"linear": ("vmin", "vmax"), "dill": ("vmin", "vmax"), "symmetric": (None, "vmax")}
+
+
+def _map_options(args, parser):
+    """--vmin / --vmax as the colour map's options (only for the maps that take a range)."""
+    if args.vmin is None and args.vmax is None:
+        return {}
+    if args.color_map not in RANGED_MAPS:
+        parser.error(f"--vmin/--vmax apply to the colour maps {', '.join(RANGED_MAPS)}; got --color-map {args.color_map}")
+    low, high = RANGED_MAPS[args.color_map]
+    if args.vmin is not None and low is None:
+        parser.error("the symmetric map is centred at 0: give --vmax only (it spans -vmax … vmax)")
+    if args.vmin is not None and args.vmax is not None and not args.vmin < args.vmax:
+        parser.error(f"--vmin must be smaller than --vmax; got {args.vmin:g} and {args.vmax:g}")
+    if args.color_map == "dill" and (args.vmin is None or args.vmax is None):
+        parser.error("Dill's bands need both --vmin and --vmax")
+    options = {}
+    if args.vmin is not None:
+        options[low] = args.vmin
+    if args.vmax is not None:
+        options[high] = args.vmax
+    return options
+
+
+def _title(args):
+    if args.title is False:
+        return None
+    if isinstance(args.title, str):
+        return args.title
+    from .view.legend import MEASURES
+
+    name, symbol, _ = MEASURES[args.curvature]
+    return f"{args.surface}: {name} {symbol}, {args.color_map} map, depth {args.depth}"
+
+
+def _camera(text):
+    try:
+        azimuth, elevation = (float(x) for x in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"camera must look like AZIMUTH,ELEVATION in degrees, e.g. -60,35; got {text!r}") from None
+    if not -90 <= elevation <= 90:
+        raise argparse.ArgumentTypeError(f"the elevation must lie between -90 and 90 degrees; got {elevation:g}")
+    return azimuth, elevation
 
 
 def _window_size(text):
@@ -113,10 +161,21 @@ def build_parser():
     r.add_argument("--depth", type=int, default=1, help="subdivision depth: 4**depth patches per patch (default: 1)")
     r.add_argument("--resolution", type=int, default=1, help="quads per patch edge in the mesh (default: 1)")
     r.add_argument("--window-size", type=_window_size, default=(1024, 768), help="PNG size, e.g. 1024x768")
-    r.add_argument("--edges", action="store_true", help="draw the patch/mesh edges")
-    r.add_argument("--title", action="store_true", help="write the surface and map into the picture")
+    r.add_argument("--edges", action="store_true", help="draw the patch/mesh edges (at --resolution 1: the patch borders)")
+    r.add_argument("--vmin", type=float, help="lower end of the colour range (linear, dill)")
+    r.add_argument("--vmax", type=float, help="upper end of the colour range (linear, dill; symmetric: -vmax … vmax)")
+    r.add_argument("--camera", type=_camera, metavar="AZIMUTH,ELEVATION",
+                   help="view direction in degrees: azimuth around z from +x, elevation above the xy-plane "
+                        "(default: the oblique view that sees most of the surface)")
+    r.add_argument("--legend", action=argparse.BooleanOptionalAction, default=True,
+                   help="draw the colour bar or classification legend in curvature units (default: yes)")
+    r.add_argument("--title", nargs="?", const=True, default=True, metavar="TEXT",
+                   help="title of the picture (default: surface, measure, map and depth)")
+    r.add_argument("--no-title", dest="title", action="store_false", help="no title")
     r.add_argument("--quiet", action="store_true", help="no progress display")
     r.add_argument("-o", "--output", required=True, help="output file (.png, .html, .off, .vtk, .vtp, .bez)")
+    # "--camera -60,35": let a negative azimuth pass as a value, not an option
+    r._negative_number_matcher = re.compile(r"^-\d+(\.\d*)?(,-?\d+(\.\d*)?)?$|^-\.\d+$")
     r.set_defaults(func=_render)
     sub.add_parser("grade", help="grade a notebook or a folder of submissions (curvature-lab grade --help)", add_help=False)
     sub.add_parser("exercises", help="generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/ (curvature-lab exercises --help)", add_help=False)

@@ -210,3 +210,169 @@ class Notebook:
                 raise RuntimeError(f"the kernel is {st['status']}; screenshot {self.shot('kernel-' + st['status'])}")
             time.sleep(0.5)
         raise TimeoutError(f"no output containing {expect!r}; screenshot {self.shot('no-output')}")
+
+
+# ----------------------------------------------------------------------------- helpers for timing and inspection
+
+#: Injected into every frame (``context.add_init_script``): records when a picture was drawn.  In a view that renders
+#: in the browser (vtk.js, WebGL) a frame is an animation frame in which something was drawn; in a view that shows
+#: images streamed from the kernel it is the arrival of an image.  Times are absolute (ms since the epoch).
+FRAME_COUNTER_JS = """
+(() => {
+  if (window.__labFrames) return;
+  const frames = [];
+  window.__labFrames = frames;
+  const stamp = () => performance.timeOrigin + performance.now();
+  let pending = false;
+  const mark = () => {
+    if (pending) return;
+    pending = true;
+    requestAnimationFrame(() => { pending = false; frames.push(stamp()); });
+  };
+  const protos = [window.WebGLRenderingContext, window.WebGL2RenderingContext].filter(Boolean).map(c => c.prototype);
+  for (const proto of protos) {
+    for (const name of ['drawArrays', 'drawElements', 'drawArraysInstanced', 'drawElementsInstanced',
+                        'drawRangeElements']) {
+      const original = proto[name];
+      if (!original) continue;
+      proto[name] = function (...args) { mark(); return original.apply(this, args); };
+    }
+  }
+  const create = URL.createObjectURL;
+  URL.createObjectURL = function (object) {
+    const url = create.call(URL, object);
+    if (object && object.type && object.type.startsWith('image/')) frames.push(stamp());
+    return url;
+  };
+})();
+"""
+
+
+def write_notebook(path, cells):
+    """Write a notebook with these code cells (and a Python 3 kernelspec, so JupyterLab does not ask)."""
+    import nbformat
+
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
+    nb.cells = [nbformat.v4.new_code_cell(source) for source in cells]
+    nbformat.write(nb, str(path))
+    return path
+
+
+def now_ms(page_or_frame):
+    """The browser's clock (ms since the epoch, sub-millisecond)."""
+    return page_or_frame.evaluate("() => performance.timeOrigin + performance.now()")
+
+
+def view_frame(explorer):
+    """The Playwright frame inside an explorer's live view (the trame page; cross-origin is fine)."""
+    handle = explorer.locator("iframe.pyvista").element_handle(timeout=120_000)
+    return handle.content_frame()
+
+
+def frames_after(frame, t0):
+    """Times (ms) of the pictures drawn in ``frame`` after ``t0``."""
+    return frame.evaluate("(t0) => (window.__labFrames || []).filter(t => t > t0)", t0)
+
+
+def settle_time(frame, t0, *, quiet=1.5, timeout=60.0):
+    """Wait until no new picture has been drawn for ``quiet`` seconds; return (last picture - t0) in ms, or None."""
+    deadline = time.time() + timeout
+    last, seen_at = None, time.time()
+    while time.time() < deadline:
+        times = frames_after(frame, t0)
+        latest = max(times) if times else None
+        if latest != last:
+            last, seen_at = latest, time.time()
+        elif last is not None and time.time() - seen_at >= quiet:
+            return last - t0
+        time.sleep(0.1)
+    return None if last is None else last - t0
+
+
+def wait_quiet(frame, quiet=1.0, timeout=60.0):
+    """Wait until the view has drawn nothing for ``quiet`` seconds."""
+    settle_time(frame, now_ms(frame) - 10 * 60 * 1000, quiet=quiet, timeout=timeout)
+
+
+def kernel_value(nb, expression, timeout=180):
+    """Evaluate ``expression`` in the notebook's kernel (through a new cell) and return the printed text."""
+    marker = f"value-{secrets.token_hex(4)}"
+    out = nb.run_cell(f"print({marker!r}, repr(({expression})))", marker, timeout=timeout)
+    return out.split(marker, 1)[1].strip()
+
+
+def process_cpu_seconds(pid):
+    """User + system CPU time of a process (all its threads), from /proc."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    ticks = os.sysconf("SC_CLK_TCK")
+    return (int(fields[11]) + int(fields[12])) / ticks
+
+
+def process_rss_mb(pid):
+    """Resident memory of a process in MB."""
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    return float("nan")
+
+
+def rerun_cell(nb, index, timeout=300):
+    """Run the notebook's code cell number ``index`` again (as Shift+Enter on it would) and wait until idle."""
+    nb.page.evaluate(
+        """(index) => {
+            const nb = window.jupyterapp.shell.currentWidget;
+            let k = -1;
+            nb.content.widgets.forEach((cell, i) => { if (cell.model.type === 'code' && ++k === index) nb.content.activeCellIndex = i; });
+            return window.jupyterapp.commands.execute('notebook:run-cell');
+        }""",
+        index,
+    )
+    time.sleep(0.5)
+    return nb.wait_idle(timeout)
+
+
+def restart_kernel(nb, timeout=300):
+    """Restart the notebook's kernel (no dialog) and wait until it is idle again."""
+    nb.page.evaluate("async () => { await window.jupyterapp.shell.currentWidget.sessionContext.restartKernel(); }")
+    time.sleep(1.0)
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if nb.state()["status"] == "idle":
+            return
+        time.sleep(0.5)
+    raise TimeoutError(f"the kernel did not come back within {timeout} s")
+
+
+#: Geometry of an explorer in the page: its view and output area, clipped texts, labels outside their boxes.
+LAYOUT_JS = """
+(explorer) => {
+  const rect = (el) => { const r = el.getBoundingClientRect(); return {x: r.x, y: r.y, w: r.width, h: r.height}; };
+  const output = explorer.closest('.jp-OutputArea-output') || explorer.parentElement;
+  const view = explorer.querySelector('iframe.pyvista, .lab-static-view');
+  const clipped = [];
+  for (const el of explorer.querySelectorAll('.lab-controls *, .lab-legend-view *')) {
+    const text = Array.from(el.childNodes).filter(n => n.nodeType === 3).map(n => n.textContent).join('').trim();
+    const input = el.tagName === 'INPUT' && el.type === 'text';
+    if (!text && !input) continue;
+    const style = getComputedStyle(el);
+    if (style.display === 'none' || style.visibility === 'hidden' || el.clientWidth === 0) continue;
+    if (el.scrollWidth > el.clientWidth + 1 && style.overflowX !== 'visible')
+      clipped.push(`${el.tagName.toLowerCase()}.${el.className} "${(text || el.value).slice(0, 40)}" needs ${el.scrollWidth} px, has ${el.clientWidth}`);
+  }
+  const box = rect(explorer), out = rect(output);
+  const outside = [];
+  for (const el of explorer.querySelectorAll('.lab-colorbar-label, .lab-legend-item, .lab-controls .widget-inline-hbox, .lab-controls button')) {
+    const r = rect(el);
+    if (r.w === 0) continue;
+    if (r.x < Math.max(box.x, out.x) - 1 || r.x + r.w > Math.min(box.x + box.w, out.x + out.w) + 1)
+      outside.push(`${el.className} "${el.textContent.trim().slice(0, 30)}" at ${Math.round(r.x)}..${Math.round(r.x + r.w)}, box ${Math.round(box.x)}..${Math.round(box.x + box.w)}`);
+  }
+  return {view: view ? rect(view) : null, output: out, explorer: box, clipped, outside,
+          labels: explorer.querySelectorAll('.lab-colorbar-label, .lab-legend-item').length};
+}
+"""
+
+
+def layout_of(explorer):
+    return explorer.evaluate(LAYOUT_JS)

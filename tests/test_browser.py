@@ -1,22 +1,33 @@
 """The explorers in a real JupyterLab, driven by headless Chromium (Playwright).
 
 For each notebook with explorers: run all cells, check that every 3D view
-shows the surface (below the trame toolbar: a dead kernel still shows the
-toolbar icons), change a control, check that the picture changed, and
-check that the kernel is still alive.  Screenshots are kept in the test's
-temporary folder; their paths are in the failure messages.
+shows the surface, change a control, check that the picture changed, and
+check that the kernel is still alive (the browser draws the view itself, so
+a picture alone does not prove a live kernel).  Then, on purpose-built
+notebooks: no CPU used while idle, readouts equal to the range the colours
+use, nothing clipped and a view as wide as the output (also in a split
+view), 20 re-runs without memory growth, restart and re-run.  No test here
+measures time (the machine may be loaded); ``benchmarks/browser.py`` does.
+Screenshots are kept in the test's temporary folder; their paths are in the
+failure messages.
 """
 
 import os
 import shutil
+import time
 from pathlib import Path
 
 import pytest
 
-from .browser_support import CHROMIUM, CHROMIUM_ARGS, Notebook, coverage, jupyterlab
+from .browser_support import (
+    CHROMIUM, CHROMIUM_ARGS, Notebook, coverage, jupyterlab, kernel_value, layout_of, process_cpu_seconds,
+    process_rss_mb, rerun_cell, restart_kernel, write_notebook,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
-NOTEBOOKS = [p.name for p in sorted((ROOT / "solutions").glob("*.ipynb")) if "Explorer(" in p.read_text()]
+# the solutions in both languages (generated from the bilingual sources in solutions/ by `make exercises`)
+LANGUAGES = ("en", "de")
+NOTEBOOKS = [p.name for p in sorted((ROOT / "solutions" / "en").glob("*.ipynb")) if "Explorer(" in p.read_text()]
 
 pytestmark = pytest.mark.skipif(os.environ.get("LAB_SKIP_BROWSER") == "1", reason="LAB_SKIP_BROWSER=1")
 
@@ -32,11 +43,11 @@ def browser():
         b.close()
 
 
-def _workdir(tmp_path, names):
+def _workdir(tmp_path, names, lang="en"):
     root = tmp_path / "nb"
     root.mkdir()
     for name in names:
-        shutil.copy(ROOT / "solutions" / name, root / name)
+        shutil.copy(ROOT / "solutions" / lang / name, root / name)
     return root
 
 
@@ -84,9 +95,10 @@ def _exercise_explorers(nb, tag):
     return n
 
 
+@pytest.mark.parametrize("lang", LANGUAGES)
 @pytest.mark.parametrize("name", NOTEBOOKS)
-def test_explorers_live_in_jupyterlab(browser, tmp_path, name):
-    root = _workdir(tmp_path, [name])
+def test_explorers_live_in_jupyterlab(browser, tmp_path, name, lang):
+    root = _workdir(tmp_path, [name], lang)
     with jupyterlab(root) as (url, token):
         page = browser.new_page(viewport={"width": 1500, "height": 1100})
         nb = Notebook(page, url, token, name, tmp_path / "shots")
@@ -118,3 +130,174 @@ def test_kernel_survives_with_default_comm_settings(browser, tmp_path):
         assert "kernel-alive 42 3 ''" in out, f"depth slider did not reach the kernel or reported an error: {out}"
         print("callbacks arrived on:", out)
         page.close()
+
+
+# ----------------------------------------------------------------------------- purpose-built notebooks
+
+EXPLORERS = [
+    "import os, lab\nfrom lab import surfaces\nprint('pid', os.getpid())",
+    "e = lab.CurvatureExplorer(surfaces.practical(), depth=2)\ne",
+    "g = lab.GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=16, step=0.5, count=6)\ng",
+]
+
+
+@pytest.fixture(scope="module")
+def lab_server(tmp_path_factory):
+    root = tmp_path_factory.mktemp("explorers")
+    (root / "notes.txt").write_text("a second document, opened beside the notebook for the split view\n")
+    with jupyterlab(root) as (url, token):
+        yield root, url, token
+
+
+def _open(browser, lab_server, tmp_path, name, cells=EXPLORERS, viewport=(1400, 900)):
+    root, url, token = lab_server
+    write_notebook(root / name, cells)
+    page = browser.new_page(viewport={"width": viewport[0], "height": viewport[1]})
+    nb = Notebook(page, url, token, name, tmp_path / "shots")
+    nb.run_all()
+    for k in range(nb.explorers().count()):
+        img = nb.wait_for_picture(nb.explorers().nth(k), timeout=120)
+        assert coverage(img) > 0.03, f"explorer {k} shows no surface; see {nb.shot('blank')}"
+    return nb
+
+
+def _kernel_pid(nb):
+    return int(kernel_value(nb, "os.getpid()"))
+
+
+def _wait_value(nb, expression, predicate, timeout=120):
+    """Evaluate ``expression`` in the kernel until ``predicate(text)`` holds; return the text."""
+    deadline = time.time() + timeout
+    while True:
+        text = kernel_value(nb, expression)
+        if predicate(text) or time.time() > deadline:
+            return text
+        time.sleep(0.5)
+
+
+def test_idle_explorers_use_no_cpu(browser, lab_server, tmp_path):
+    """Two explorers shown, nobody touching them: the kernel does no work (no recolour loop)."""
+    nb = _open(browser, lab_server, tmp_path, "idle.ipynb")
+    pid = _kernel_pid(nb)
+    time.sleep(3)  # let the first pictures settle
+    before = kernel_value(nb, "dict(e.counts), dict(g.counts)")
+    cpu0 = process_cpu_seconds(pid)
+    time.sleep(5)
+    cpu = process_cpu_seconds(pid) - cpu0
+    after = kernel_value(nb, "dict(e.counts), dict(g.counts)")
+    assert after == before, f"actions ran with nobody touching the explorers: {before} -> {after}"
+    # the old recolour loop used 0.29 CPU-s per second for two explorers; an idle kernel uses next to nothing
+    assert cpu < 0.25, f"the idle kernel used {cpu:.2f} CPU-s in 5 s"
+    nb.page.close()
+
+
+def _readouts(explorer):
+    return [float(explorer.locator(f"{sel} input").input_value().replace("−", "-"))
+            for sel in (".lab-range-min", ".lab-range-max")]
+
+
+def _mapper_range(nb, mode):
+    """The range the colours use once the kernel has taken the range mode ``mode`` and finished recolouring."""
+    expression = ("e.range_mode.value, e.busy, tuple(float(x) for x in e.actor.mapper.scalar_range), "
+                  "dict(e.counts), e.status.value")
+    text = _wait_value(nb, expression, lambda t: repr(mode) in t and ", False," in t)
+    got_mode, busy, used, counts, status = eval(text)  # noqa: S307 - our own kernel's output
+    assert got_mode == mode and not busy, f"the kernel did not take {mode!r}: {text}"
+    return used, text
+
+
+def _assert_same(shown, used, what):
+    for a, b in zip(shown, used):
+        assert a == pytest.approx(b, rel=1e-3, abs=1e-12), f"{what}: readouts {shown}, colours use {used}"
+
+
+def test_readouts_equal_the_range_the_colours_use(browser, lab_server, tmp_path):
+    nb = _open(browser, lab_server, tmp_path, "readouts.ipynb", EXPLORERS[:2])
+    ex = nb.explorers().first
+    used, _ = _mapper_range(nb, "auto")
+    _assert_same(_readouts(ex), used, "auto")
+    ex.locator(".lab-range-mode button", has_text="± max").click()
+    used, text = _mapper_range(nb, "symmetric")
+    assert used[0] == pytest.approx(-used[1]), text
+    nb.page.wait_for_timeout(1500)
+    _assert_same(_readouts(ex), used, "± max")
+    ex.locator(".lab-range-mode button", has_text="manual").click()
+    manual, text = _mapper_range(nb, "manual")
+    assert manual == pytest.approx(used)  # manual starts at the range used before, not min = max
+    nb.page.wait_for_timeout(1500)
+    _assert_same(_readouts(ex), manual, "manual")
+    field = ex.locator(".lab-range-max input")
+    assert field.is_enabled()
+    field.fill("10")
+    field.press("Enter")
+    text = _wait_value(nb, "tuple(float(x) for x in e.actor.mapper.scalar_range)", lambda t: "10.0)" in t)
+    assert eval(text) == pytest.approx((manual[0], 10.0)), text  # noqa: S307
+    nb.page.wait_for_timeout(1500)
+    _assert_same(_readouts(ex), (manual[0], 10.0), "manual after typing")
+    labels = ex.locator(".lab-colorbar-label").all_inner_texts()
+    assert labels and float(labels[-1].replace("−", "-")) <= 10.0  # the colour bar shows the same range
+    nb.page.close()
+
+
+def _check_layout(nb, tag):
+    problems = []
+    for k in range(nb.explorers().count()):
+        ex = nb.explorers().nth(k)
+        ex.scroll_into_view_if_needed()
+        g = layout_of(ex)
+        if g["view"]["w"] < 0.9 * g["output"]["w"]:
+            problems.append(f"explorer {k}: view {g['view']['w']:.0f} px wide in an output of {g['output']['w']:.0f} px")
+        problems += [f"explorer {k}: clipped {c}" for c in g["clipped"]]
+        problems += [f"explorer {k}: outside {c}" for c in g["outside"]]
+        if k == 0 and not g["labels"]:
+            problems.append("explorer 0: no colour bar labels")
+    assert not problems, f"{tag}: " + "; ".join(problems) + f"; screenshot {nb.shot(tag)}"
+
+
+def test_nothing_clipped_and_the_view_fills_the_output(browser, lab_server, tmp_path):
+    """At 1400 x 900 and in a split view: every label readable, colour bar labels inside, view ≥ 90% of the output."""
+    nb = _open(browser, lab_server, tmp_path, "layout.ipynb")
+    ex = nb.explorers().first
+    for label in ("signed log", "Dill's five bands", "h∘f3 classification", "h∘f2 linear (min/max)"):
+        ex.locator(".lab-primary-control select").select_option(value=label)
+        _wait_value(nb, "e.color_map.value, e.busy", lambda t: "False" in t)
+        nb.page.wait_for_timeout(1500)
+        _check_layout(nb, f"full-{label.split()[0]}")
+    nb.page.evaluate("""() => window.jupyterapp.commands.execute('docmanager:open',
+                        {path: 'notes.txt', options: {mode: 'split-right'}}).then(() => null)""")
+    nb.page.wait_for_timeout(3000)
+    width = nb.page.evaluate("() => document.querySelector('.jp-NotebookPanel:not(.lm-mod-hidden)').clientWidth")
+    assert width < 800, f"the notebook is not in a split view ({width} px wide)"
+    for k in range(nb.explorers().count()):  # the views follow the narrower output and still show the surface
+        img = nb.wait_for_picture(nb.explorers().nth(k), timeout=60)
+        assert coverage(img) > 0.03, f"explorer {k} is blank in the split view; see {nb.shot('split-blank')}"
+    _check_layout(nb, "split")
+    nb.page.close()
+
+
+def test_rerunning_a_cell_twenty_times_does_not_grow(browser, lab_server, tmp_path):
+    nb = _open(browser, lab_server, tmp_path, "rerun.ipynb", EXPLORERS[:2])
+    pid = _kernel_pid(nb)
+    after_one = process_rss_mb(pid)
+    for _ in range(20):
+        rerun_cell(nb, 1)
+        nb.wait_for_picture(nb.explorers().first, timeout=120)
+    alive = kernel_value(nb, "len(lab.view.explorers.base._INSTANCES)")
+    after_twenty = process_rss_mb(pid)
+    assert alive == "1", f"{alive} explorers alive after 20 re-runs of one cell"
+    assert after_twenty <= 1.10 * after_one, f"kernel memory {after_one:.0f} MB after one run, {after_twenty:.0f} MB after 20"
+    nb.page.close()
+
+
+def test_restart_and_rerun_brings_every_view_back(browser, lab_server, tmp_path):
+    nb = _open(browser, lab_server, tmp_path, "restart.ipynb")
+    restart_kernel(nb)
+    nb.run_all()
+    n = nb.explorers().count()
+    assert n == 2
+    for k in range(n):
+        ex = nb.explorers().nth(k)
+        img = nb.wait_for_picture(ex, timeout=120)
+        assert coverage(img) > 0.03, f"explorer {k} has no picture after the restart; see {nb.shot('restart')}"
+    assert "42" in kernel_value(nb, "6 * 7, dict(e.counts)")
+    nb.page.close()

@@ -79,3 +79,41 @@ def test_help_and_errors(tmp_path):
     assert result.returncode == 2 and "analytic, not made of Bézier patches" in result.stderr
     result = run("render", "-o", str(tmp_path / "missing" / "x.png"))
     assert result.returncode == 2 and "does not exist" in result.stderr
+
+
+def test_render_options_for_pictures(tmp_path):
+    import imageio.v3 as iio
+
+    def picture(*options, name="p.png"):
+        out = tmp_path / name
+        assert cli.main(["render", "--surface", "practical", "--depth", "2", "--window-size", "400x300", "--quiet",
+                         *options, "-o", str(out)]) == 0
+        return iio.imread(out)[..., :3].astype(int)
+
+    default = picture(name="default.png")
+    assert np.mean(np.abs(picture("--camera=-60,35", name="camera.png") - default)) > 3  # another view
+    assert np.mean(np.abs(picture("--camera", "-60,35", name="camera2.png") - picture("--camera=-60,35"))) == 0
+    ranged = picture("--vmin", "-1", "--vmax", "1", name="ranged.png")
+    assert np.mean(np.abs(ranged - default)) > 3  # other colours for the same surface
+    bare = picture("--no-legend", "--no-title", name="bare.png")
+
+    def green(img):  # the middle of the practical's ramp h: on the colour bar, not on this (blue) surface
+        return int(np.count_nonzero((img[..., 1] > 200) & (img[..., 0] < 80) & (img[..., 2] < 80)))
+
+    assert green(default) > 100 and green(bare) < 20  # the colour bar, and none with --no-legend
+    assert not np.array_equal(bare, default) and np.mean(np.any(bare[:25] < 100, axis=-1)) < np.mean(
+        np.any(default[:25] < 100, axis=-1))  # no title text on top
+
+
+def test_render_option_errors(tmp_path):
+    out = str(tmp_path / "x.png")
+    result = run("render", "--color-map", "cut", "--vmin", "0", "-o", out)
+    assert result.returncode == 2 and "--vmin/--vmax apply to the colour maps linear, dill, symmetric" in result.stderr
+    result = run("render", "--vmin", "2", "--vmax", "1", "-o", out)
+    assert result.returncode == 2 and "--vmin must be smaller than --vmax; got 2 and 1" in result.stderr
+    result = run("render", "--color-map", "dill", "--vmax", "1", "-o", out)
+    assert result.returncode == 2 and "Dill's bands need both --vmin and --vmax" in result.stderr
+    result = run("render", "--camera", "east", "-o", out)
+    assert result.returncode == 2 and "camera must look like AZIMUTH,ELEVATION" in result.stderr
+    result = run("render", "--camera", "0,120", "-o", out)
+    assert result.returncode == 2 and "elevation must lie between -90 and 90" in result.stderr

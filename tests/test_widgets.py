@@ -1,13 +1,22 @@
-"""The explorers without a browser: in-place updates, main-thread renders, messages, static fallback."""
+"""The explorers without a browser: in-place updates, readouts, no work without an action, latest-wins
+requests, main-thread renders, lifecycle, messages, static fallback."""
 
+import asyncio
 import threading
 
+import ipywidgets as W
 import numpy as np
 import pytest
 
 import lab
 from lab import surfaces
+from lab.view.explorers import base
 from lab.widgets import CurvatureExplorer, FocalExplorer, GeodesicExplorer, ReflectionExplorer
+
+
+def sig4(x):
+    """A number as the readouts show it (4 significant digits)."""
+    return float(f"{x:.4g}")
 
 
 @pytest.fixture(scope="module")
@@ -21,12 +30,12 @@ def test_recolour_changes_colours_only(explorer):
     e.color_map.value = "linear"
     K = np.asarray(mesh.point_data["K"])
     np.testing.assert_allclose(e.lut.scalar_range, (K.min(), K.max()))
-    np.testing.assert_array_equal(mesh.point_data["display"], K)
+    np.testing.assert_allclose(mesh.point_data["display"], K, rtol=1e-6)  # single precision for the browser
     e.color_map.value = "symmetric"
     m = np.abs(K).max()
     np.testing.assert_allclose(e.lut.scalar_range, (-m, m))
     e.measure.value = "mean"
-    np.testing.assert_array_equal(mesh.point_data["display"], mesh.point_data["H"])
+    np.testing.assert_allclose(mesh.point_data["display"], mesh.point_data["H"], rtol=1e-6)
     e.color_map.value = "classification"
     assert set(np.unique(mesh.point_data["display"])) <= {0.0, 0.5, 1.0}
     assert e.actor is actor and e.mesh is mesh and e.lut is lut  # nothing rebuilt
@@ -35,14 +44,60 @@ def test_recolour_changes_colours_only(explorer):
     e.color_map.value = "linear"
 
 
-def test_range_modes(explorer):
+def test_readouts_show_the_range_used_and_manual_starts_there(explorer):
     e = explorer
-    e.range_mode.value = "manual"
-    assert not e.range.disabled
-    e.range.value = (-0.5, 0.25)
-    np.testing.assert_allclose(e.lut.scalar_range, (-0.5, 0.25))
+    e.color_map.value = "linear"
+    K = np.asarray(e.mesh.point_data["K"])
+    for mode, expected in (("auto", (K.min(), K.max())), ("symmetric", (-np.abs(K).max(), np.abs(K).max()))):
+        e.range_mode.value = mode
+        np.testing.assert_allclose(e.actor.mapper.scalar_range, expected)
+        assert (float(e.range_min.value), float(e.range_max.value)) == tuple(sig4(x) for x in expected)
+        assert e.range_min.disabled and e.range_max.disabled
+    e.range_mode.value = "manual"  # starts at the range used just before (± max), not min = max
+    np.testing.assert_allclose(e.actor.mapper.scalar_range, (-np.abs(K).max(), np.abs(K).max()))
+    assert not e.range_min.disabled
+    e.range_max.value = "10"
+    np.testing.assert_allclose(e.actor.mapper.scalar_range, (-np.abs(K).max(), 10.0))
+    assert e.range_max.value == "10" and float(e.range_min.value) == sig4(-np.abs(K).max())
+    e.range_min.value = "-0.5"
+    np.testing.assert_allclose(e.lut.scalar_range, (-0.5, 10.0))
+    e.range_min.value = "abc"
+    assert "min and max must be numbers" in e.status.value
+    np.testing.assert_allclose(e.lut.scalar_range, (-0.5, 10.0))
+    assert e.range_min.value == "-0.5"  # the readout shows the range used again
+    e.range_min.value = "20"
+    assert "max must be larger than min" in e.status.value
     e.range_mode.value = "auto"
-    assert e.range.disabled
+    assert e.range_min.disabled
+    np.testing.assert_allclose(e.lut.scalar_range, (K.min(), K.max()))
+
+
+@pytest.mark.parametrize("name", ["cut", "percentile", "signed-log", "symmetric", "classification"])
+def test_maps_with_their_own_range_disable_the_range_control(explorer, name):
+    e = explorer
+    e.color_map.value = name
+    assert e.range_mode.disabled and e.range_min.disabled
+    legend = e.legend()
+    if name == "classification":
+        assert e.range_min.value == "" and [c[0].split()[0] for c in legend.classes] == ["K", "K", "K"]
+    else:
+        assert (float(e.range_min.value), float(e.range_max.value)) == tuple(sig4(x) for x in legend.clim)
+    e.color_map.value = "linear"
+    assert not e.range_mode.disabled
+
+
+def test_no_work_without_an_action(explorer):
+    """Values the explorer writes into its own controls (readouts, buttons) never call back: no feedback loop."""
+    e = explorer
+    e.color_map.value = "linear"
+    before = dict(e.counts)
+    e._show_readouts()
+    e._show_readouts()
+    e.refresh()
+    assert dict(e.counts) == before
+    # a readout that changes while the range is automatic (as a browser echo would) is ignored
+    e.range_min.value = "-123"
+    assert e.counts["recolor"] == before.get("recolor", 0)
 
 
 def test_depth_updates_the_mesh_in_place():
@@ -51,8 +106,41 @@ def test_depth_updates_the_mesh_in_place():
     assert mesh.n_points == 15**2
     e.depth.value = 3
     assert e.mesh is mesh and mesh.n_points == 57**2
+    assert mesh.points.dtype == np.float32 and mesh.point_data["Normals"].dtype == np.float32
     K = surfaces.practical().curvature(np.linspace(0, 7, 57)[:, None], np.linspace(0, 7, 57)[None, :]).K
     np.testing.assert_allclose(np.sort(mesh.point_data["K"]), np.sort(K.ravel()), rtol=1e-9, atol=1e-12)
+    assert e.progress.layout.visibility == "hidden"  # shown only while a computation runs
+
+
+def test_a_newer_request_cancels_an_older_one():
+    """On the kernel's event loop, depth changes that arrive together run once, with the last value."""
+    e = CurvatureExplorer(surfaces.practical(), live=False, depth=1)
+    seen = []
+
+    async def scenario():
+        e._loop = asyncio.get_running_loop()
+        for depth in (2, 3, 4):  # three changes before the loop runs anything: only the last survives
+            e.depth.value = depth
+        while not all(t.done() for t in e._tasks.values()):
+            seen.append(e.progress.layout.visibility)
+            await asyncio.sleep(0)
+
+    asyncio.run(scenario())
+    assert e.counts["set_depth"] == 1 and e.mesh.n_points == (7 * 16 + 1) ** 2
+    assert "visible" in seen and e.progress.layout.visibility == "hidden"
+
+    async def interrupted():  # a change arriving while a computation runs cancels it at its next step
+        e._loop = asyncio.get_running_loop()
+        e.depth.value = 5
+        for _ in range(3):
+            await asyncio.sleep(0)
+        e.depth.value = 2
+        while not all(t.done() for t in e._tasks.values()):
+            await asyncio.sleep(0)
+
+    asyncio.run(interrupted())
+    assert e.mesh.n_points == (7 * 4 + 1) ** 2 and 5 not in e._meshes
+    assert e.status.value == ""
 
 
 def test_callbacks_from_other_threads_render_on_the_main_thread():
@@ -65,7 +153,11 @@ def test_callbacks_from_other_threads_render_on_the_main_thread():
             scheduled.append((func, args))
 
     e._loop = Loop()
-    observer = e._callback(lambda: ran_on.append(threading.current_thread().name))
+
+    def action():
+        ran_on.append(threading.current_thread().name)
+
+    observer = e._callback(action)
     t = threading.Thread(target=observer, name="comm-subshell")
     t.start()
     t.join()
@@ -74,6 +166,32 @@ def test_callbacks_from_other_threads_render_on_the_main_thread():
     func(*args)  # what the kernel's event loop does on the main thread
     assert ran_on == ["MainThread"]
     assert e.callback_threads == ["comm-subshell"]
+
+
+def test_close_releases_everything():
+    e = CurvatureExplorer(surfaces.saddle(), live=False, depth=1)
+    widget = e.widget
+    controls = [e.measure, e.color_map, e.depth, e.range_min, widget]
+    assert all(w.comm is not None for w in controls)
+    e.close()
+    assert all(w.comm is None for w in controls)  # closed in the frontend too
+    assert e.measure.layout.comm is None and e.depth.style.comm is None  # with their layout and style widgets
+    assert e.closed and e not in base._INSTANCES and e.mesh is None and e.plotter is None
+    e.close()  # twice is fine
+
+
+def test_rerunning_a_cell_closes_the_explorer_it_made(monkeypatch):
+    where = {"cell": ("cell-a", 1)}
+    monkeypatch.setattr(base, "_current_cell", lambda: where["cell"])
+    monkeypatch.setattr(base, "_BY_CELL", {})
+    first = CurvatureExplorer(surfaces.saddle(), live=False, depth=0)
+    second = CurvatureExplorer(surfaces.saddle(), live=False, depth=0)  # same run of the cell: both stay
+    assert not first.closed and not second.closed
+    where["cell"] = ("cell-b", 2)
+    other = CurvatureExplorer(surfaces.saddle(), live=False, depth=0)  # another cell
+    where["cell"] = ("cell-a", 3)  # the first cell again
+    again = CurvatureExplorer(surfaces.saddle(), live=False, depth=0)
+    assert first.closed and second.closed and not other.closed and not again.closed
 
 
 def test_static_bundle_without_a_jupyter_session(monkeypatch):
@@ -87,9 +205,20 @@ def test_static_bundle_without_a_jupyter_session(monkeypatch):
     from PIL import Image
 
     img = np.asarray(Image.open(io.BytesIO(base64.b64decode(bundle["image/png"]))).convert("RGB"))
-    assert img.shape == (480, 640, 3) and np.mean(np.any(img < 240, axis=-1)) > 0.05
+    assert img.shape == (500, 800, 3) and np.mean(np.any(img < 240, axis=-1)) > 0.2
     monkeypatch.setenv("LAB_INTERACTIVE", "1")
-    assert "application/vnd.jupyter.widget-view+json" in e._repr_mimebundle_()
+    live = e._repr_mimebundle_()
+    assert "application/vnd.jupyter.widget-view+json" in live and "image/png" not in live  # no render in the kernel
+
+
+def test_widget_layout_fills_the_output():
+    e = CurvatureExplorer(surfaces.saddle(), live=False, depth=1)
+    w = e.widget
+    assert w.layout.width == "100%" and "lab-explorer" in w._dom_classes
+    assert e._view.layout.width == "100%"
+    grid = [c for c in w.children if isinstance(c, W.GridBox)][0]
+    assert "auto-fill" in grid.layout.grid_template_columns  # controls wrap into as many columns as fit
+    assert "lab-colorbar" in e.legend_view.value and "Gaussian curvature K" in e.legend_view.value
 
 
 def test_students_class_errors_become_messages():
@@ -113,9 +242,13 @@ def test_students_class_errors_become_messages():
             lab.BezierPatches.visualize_curvature(self, curvature_mode, color_map)
 
     e = CurvatureExplorer(surfaces.practical(), Reference, live=False, depth=1)
+    assert "lab-colorbar-label" in e.legend_html()  # the student's explorer has the same colour bar
+    lo, hi = e.legend().clim
+    stored = np.asarray(e.mesh.point_data["values"])
+    assert (lo, hi) == (stored.min(), stored.max())
     e.color_map.value = "classification"
     assert e.status.value == ""
-    assert "RGB" in e.mesh.point_data
+    assert "RGB" in e.mesh.point_data and "K &gt; 0 elliptic" in e.legend_html()
     with pytest.raises(TypeError, match="patches_class must be a subclass of lab.BezierPatches"):
         CurvatureExplorer(surfaces.practical(), object, live=False)
     with pytest.raises(TypeError, match="not made of Bézier patches"):
@@ -128,6 +261,7 @@ def test_focal_explorer_moves_points_by_a_f_n():
     N = np.asarray(f.surface_mesh.point_data["N"])
     f.scale.value = -1.0  # H = -1/2 on this sphere: F = X + 0.5 N
     np.testing.assert_allclose(np.asarray(f.focal_mesh.points), X + 0.5 * N, atol=1e-6)
+    assert "mean curvature H" in f.legend_html()
 
 
 def test_geodesic_explorer_messages_and_fans():
@@ -140,7 +274,22 @@ def test_geodesic_explorer_messages_and_fans():
     assert "the angle range is empty" in g.status.value
     g.angle_range.value = (0.0, 90.0)
     assert not g.fan.full_circle and len(g.fan) == 12
-    assert g.domain_view.value[:4] == b"\x89PNG"
+    assert g.domain_view.value.startswith("<svg") and g.domain_view.value.count("<polyline") > 12
+
+
+def test_geodesic_explorer_recomputes_only_what_changed():
+    g = GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=16, step=0.5, n_curves=6, live=False)
+    fan = g.fan
+    g.count.value = 4  # shorter: the paths are reused, only the curves are new
+    assert g.fan is fan and len(g.isodistance) == 4
+    g.step.value = 0.25
+    g.count.value = 12  # 3.0: still within the 3.0 integrated
+    assert g.fan is fan and len(g.isodistance) == 12
+    g.count.value = 16  # 4.0, longer than integrated: a new fan
+    assert g.fan is not fan and g.fan.length == pytest.approx(4.0)
+    fan = g.fan
+    g.u0.value = 4.5  # a new start: a new fan
+    assert g.fan is not fan and g.fan.origin[0] == pytest.approx(4.5)
 
 
 def test_geodesic_explorer_old_count_keyword_still_works():

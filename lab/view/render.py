@@ -1,13 +1,24 @@
-"""Offscreen pictures and HTML scenes of meshes with curvature colours (PyVista)."""
+"""Offscreen pictures and HTML scenes of meshes with curvature colours (PyVista), in the lab's one style.
 
+:func:`picture` (an RGB array), :func:`show` (for a notebook) and :func:`save`
+(a PNG file, used by the CLI and the gallery) draw a surface the way
+:mod:`lab.view.style` describes: fitted oblique camera, three-point light that
+keeps the colours true, a title, the colour bar or class legend in curvature
+units (:mod:`lab.view.legend`), padding, optional patch borders.
+"""
+
+import io
 import os
 
 import numpy as np
 import pyvista as pv
 
 from ..interrogation.reflection import VIEW_DIRECTION
+from . import style
+from .legend import Legend, legend as make_legend
 
-__all__ = ["configure_offscreen", "plot_mesh", "set_camera", "screenshot", "export_html", "show", "VIEW_DIRECTION"]
+__all__ = ["configure_offscreen", "plot_mesh", "set_camera", "picture", "save", "show", "screenshot", "export_html",
+           "VIEW_DIRECTION"]
 
 
 def configure_offscreen():
@@ -23,86 +34,109 @@ def configure_offscreen():
 
 def plot_mesh(mesh, plotter, *, show_edges=False, scalars=None, cmap="viridis", **kwargs):
     """Add a curvature mesh to ``plotter``: its ``RGB`` colours if present, else ``scalars`` with ``cmap``."""
+    kwargs = {**style.SURFACE_PROPERTIES, **kwargs}
+    if show_edges:
+        kwargs.setdefault("edge_color", "#3a3a3a")
+        kwargs.setdefault("line_width", 0.8)
     if scalars is None and "RGB" in mesh.cell_data:  # e.g. stripe mappings: one colour per facet
-        lit = "lit" in mesh.field_data  # colours that already contain their shading (the paper's colour plate 1)
-        return plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges,
-                                **({"lighting": False} if lit else {}), **kwargs)
+        if "lit" in mesh.field_data:  # colours that already contain their shading (the paper's colour plate 1)
+            kwargs["lighting"] = False
+        return plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges, **kwargs)
     if scalars is None and "RGB" in mesh.point_data:
         return plotter.add_mesh(mesh, scalars="RGB", rgb=True, show_edges=show_edges, smooth_shading=True, **kwargs)
-    return plotter.add_mesh(mesh, scalars=scalars, cmap=cmap, show_edges=show_edges, smooth_shading=True, **kwargs)
+    return plotter.add_mesh(mesh, scalars=scalars, cmap=cmap, show_edges=show_edges, smooth_shading=True,
+                            show_scalar_bar=False, **kwargs)
 
 
-#: Default viewing direction (from the focal point towards the camera): from the front left, above.
-
-
-def set_camera(plotter, mesh, direction=VIEW_DIRECTION, zoom=1.0):
-    """Look at ``mesh`` from ``direction`` with z up; ``zoom`` > 1 fills more of the view than the bounding sphere."""
-    centre = np.asarray(mesh.center, dtype=float)
-    d = np.asarray(direction, dtype=float)
-    d /= np.linalg.norm(d)
-    plotter.camera_position = [tuple(centre + d * max(mesh.length, 1e-9)), tuple(centre), (0.0, 0.0, 1.0)]
-    plotter.reset_camera()
-    plotter.camera.zoom(zoom)
-
-
-def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=None):
-    """Render ``mesh`` offscreen to a PNG file and return the image as an array."""
-    configure_offscreen()
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-    plotter.set_background("white")
-    plot_mesh(mesh, plotter, show_edges=show_edges)
-    if title:
-        plotter.add_text(title, font_size=12, color="black")
-    set_camera(plotter, mesh)
-    image = plotter.screenshot(str(path), return_img=True)
-    plotter.close()
-    return np.asarray(image)
-
-
-def export_html(mesh, path, *, show_edges=False):
-    """Write an interactive HTML scene (vtk.js via trame) of ``mesh``."""
-    configure_offscreen()
-    plotter = pv.Plotter(off_screen=True)
-    plot_mesh(mesh, plotter, show_edges=show_edges)
-    set_camera(plotter, mesh)
-    plotter.export_html(str(path))
-    plotter.close()
+def set_camera(plotter, mesh, direction=None, zoom=1.0):
+    """Look at ``mesh`` from ``direction`` (default: the automatic oblique view) with z up, fitted to the view."""
+    style.fit_camera(plotter, mesh, direction)
+    if zoom != 1.0:
+        plotter.camera.zoom(zoom)
 
 
 def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
-    """A curvature mesh for patches, a surface or a mesh (see :func:`show`)."""
+    """A curvature mesh for patches, a surface or a mesh, and the legend its colours have (or None)."""
     from .. import mesh as _mesh
+    from ..geometry.curvature import CurvatureMode, zero_tolerance
     from ..model.patches import BezierPatches
 
+    options = dict(map_options or {})
+    coloured = curvature is not None and color_map is not None
     if isinstance(obj, pv.PolyData):
-        return obj
-    if isinstance(obj, BezierPatches):
-        if curvature is not None and color_map is not None:
+        mesh = obj
+        if coloured and "K" in mesh.point_data:
+            mesh = _mesh.color_curvature(mesh.copy(), curvature, color_map, **options)
+    elif isinstance(obj, BezierPatches):
+        if coloured:
             obj = obj.copy()
-            BezierPatches.visualize_curvature(obj, curvature, color_map, **(map_options or {}))
-        return _mesh.patches_mesh(obj, resolution=resolution)
-    if hasattr(obj, "derivatives") and hasattr(obj, "domain"):
-        return _mesh.surface_mesh(obj, n, n, curvature, color_map, **(map_options or {}))
-    raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
+            BezierPatches.visualize_curvature(obj, curvature, color_map, **options)
+        mesh = _mesh.patches_mesh(obj, resolution=resolution)
+    elif hasattr(obj, "derivatives") and hasattr(obj, "domain"):
+        mesh = _mesh.surface_mesh(obj, n, n, curvature, color_map, **options)
+    else:
+        raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
+    legend = None
+    if coloured and "values" in mesh.point_data:
+        mode = CurvatureMode(curvature).value
+        name = color_map.value if hasattr(color_map, "value") else str(color_map)
+        size = float(np.linalg.norm(np.ptp(np.asarray(mesh.points), axis=0)))
+        legend = make_legend(mode, name, np.asarray(mesh.point_data["values"]), options=options,
+                             tol=zero_tolerance(mode, size))
+    return mesh, legend
 
 
-def _add_flat(plotter, mesh, curvature, color_map, map_options, edges):
-    """Dill's drawing (``seeds/000``): one colour per polygon (:func:`lab.mesh.color_cells`), one light at the eye."""
-    from .. import mesh as _mesh
+def _net_lines(obj):
+    P = np.asarray(obj.control_points)
+    P = P[None] if P.ndim == 3 else P
+    lines = []
+    for net_ in P:
+        lines += [pv.lines_from_points(row) for row in net_] + [pv.lines_from_points(col) for col in net_.transpose(1, 0, 2)]
+    return pv.merge(lines), P.reshape(-1, 3)
 
-    if curvature is not None and color_map is not None:
-        mesh = _mesh.color_cells(mesh, curvature, color_map, **(map_options or {}))
-    elif "RGB" in mesh.point_data:
-        mesh = _mesh.color_cells(mesh)
-    plotter.remove_all_lights()
+
+def _add_flat(plotter, mesh, edges):
+    """Dill's drawing (``seeds/000``): one colour per polygon (cell ``RGB``, :func:`lab.mesh.color_cells`), one light
+    at the eye (ambient plus Lambert)."""
     plotter.add_light(pv.Light(light_type="headlight"))
     colors = {"scalars": "RGB", "rgb": True, "preference": "cell"} if "RGB" in mesh.cell_data else {"color": "#d9d9d9"}
-    plotter.add_mesh(mesh, show_edges=edges, ambient=0.3, diffuse=0.7, smooth_shading=False, **colors)
+    plotter.add_mesh(mesh, show_edges=edges, ambient=0.3, diffuse=0.7, specular=0.0, smooth_shading=False, **colors)
 
 
-def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=False, net=False, title=None,
-         resolution=1, n=64, direction=VIEW_DIRECTION, map_options=None, shading="smooth"):
-    """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
+def render_view(mesh, size, *, edges=False, net=None, direction=None, camera=None, background="white",
+                shading="smooth"):
+    """The bare 3D view of ``mesh`` in the lab's style (no frame), ``size`` = (width, height); RGB array.
+
+    ``shading="flat"`` draws ``mesh`` (with cell colours) as Dill did: flat polygons lit by one light at the eye.
+    """
+    configure_offscreen()
+    plotter = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])], lighting="none")
+    try:
+        plotter.set_background(background)
+        if shading == "flat":
+            _add_flat(plotter, mesh, edges)
+        elif "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
+            plot_mesh(mesh, plotter, show_edges=edges)
+        else:
+            plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True, **style.SURFACE_PROPERTIES,
+                             **({"edge_color": "#3a3a3a", "line_width": 0.8} if edges else {}))
+        if net is not None:
+            lines, points = net
+            plotter.add_mesh(lines, color="black", line_width=1)
+            plotter.add_points(points, color="black", point_size=5, render_points_as_spheres=True)
+        if shading != "flat":
+            style.apply_lights(plotter)
+        azimuth, elevation = camera if camera is not None else (None, None)
+        fit_to = mesh if net is None else mesh.merge(pv.PolyData(net[1])) if mesh.n_points else pv.PolyData(net[1])
+        style.fit_camera(plotter, fit_to, direction, azimuth=azimuth, elevation=elevation)
+        return np.asarray(plotter.screenshot(None, return_img=True))[..., :3]
+    finally:
+        plotter.close()
+
+
+def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edges=False, net=False, title=None,
+            resolution=1, n=64, direction=None, camera=None, map_options=None, legend=True, shading="smooth"):
+    """A picture of patches, a surface or a mesh in the lab's style, as an RGB array (height, width, 3).
 
     Parameters
     ----------
@@ -110,50 +144,114 @@ def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), edges=F
         Patches are shown with the colours their ``visualize_curvature`` stored
         (or, with ``curvature`` and ``color_map``, coloured by the library).
     curvature, color_map : str, optional
-        Colour a surface (or patches) by this curvature and map.
+        Colour by this curvature and map; the picture then has a colour bar
+        (or the classification legend) in curvature units.
+    window_size : (int, int)
+        Size of the whole picture in pixels.
     edges : bool
         Draw mesh edges (for patches at resolution 1: the patch borders).
     net : bool
         Draw the control nets of patches.
+    title : str, optional
+    camera : (float, float), optional
+        Azimuth and elevation in degrees (azimuth around z from +x, elevation
+        above the xy-plane); default: the automatic oblique view (see :mod:`lab.view.style`).
+    direction : (3,) array_like, optional
+        A view direction (from the surface towards the eye) instead of ``camera``.  Stripe mappings and
+        reflection lines (view-dependent) are shown from :data:`VIEW_DIRECTION`, the eye they are computed
+        for by default, unless ``camera`` or ``direction`` is given.
     map_options : dict, optional
         Options of the colour map, e.g. ``{"vmin": -1, "vmax": 0.5}`` for Dill's bands.
+    legend : bool or Legend
+        Draw the colour bar or legend when the colours' meaning is known (True: coloured here by
+        ``curvature`` and ``color_map``), never (False), or this one.  A mesh without colours is grey.
     shading : {"smooth", "flat"}
         ``"flat"`` draws as Dill did (``seeds/000``, "Image generation"): every
         polygon in one colour, that of the mean of its vertices' values, and one
         uniform shade from a single light at the eye (ambient plus Lambert), so
         band edges follow the polygons as in his figures.
     """
-    from IPython.display import Image
-
     if shading not in ("smooth", "flat"):
         raise ValueError(f"shading must be 'smooth' or 'flat'; got {shading!r}")
-    configure_offscreen()
-    mesh = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
-    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
-    plotter.set_background("white")
+    mesh, known = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
     if shading == "flat":
-        _add_flat(plotter, mesh, curvature, color_map, map_options, edges)
-    elif "RGB" in mesh.point_data or "RGB" in mesh.cell_data:
-        plot_mesh(mesh, plotter, show_edges=edges)
-    else:
-        plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True)
-    if net and hasattr(obj, "control_points"):
-        P = np.asarray(obj.control_points)
-        P = P[None] if P.ndim == 3 else P
-        lines = []
-        for net_ in P:
-            lines += [pv.lines_from_points(row) for row in net_] + [pv.lines_from_points(col) for col in net_.transpose(1, 0, 2)]
-        plotter.add_mesh(pv.merge(lines), color="black", line_width=1)
-        plotter.add_points(P.reshape(-1, 3), color="black", point_size=5, render_points_as_spheres=True)
-    if title:
-        plotter.add_text(title, font_size=11, color="black")
-    set_camera(plotter, mesh, direction)
-    png = plotter.screenshot(None, return_img=True)
-    plotter.close()
-    import io
+        from .. import mesh as _mesh
 
+        if curvature is not None and color_map is not None and "K" in mesh.point_data:
+            mesh = _mesh.color_cells(mesh, curvature, color_map, **(map_options or {}))
+        elif "RGB" in mesh.point_data:
+            mesh = _mesh.color_cells(mesh)
+    if direction is None and camera is None and ("box_lo" in mesh.field_data or "light_origin" in mesh.field_data):
+        # stripe mappings and reflection lines depend on the eye: show them from the one they were computed for
+        direction = VIEW_DIRECTION
+    if isinstance(legend, Legend):
+        chosen = legend
+    elif legend:
+        chosen = known
+    else:
+        chosen = None
+    frame = style.layout(window_size, title, chosen)
+    net_data = _net_lines(obj) if net and hasattr(obj, "control_points") else None
+    view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, direction=direction, camera=camera,
+                       shading=shading)
+    return style.compose(view, frame, title=title, legend=chosen)
+
+
+def save(obj, path, curvature=None, color_map=None, **options):
+    """Write :func:`picture` to a PNG file and return the image."""
+    from PIL import Image
+
+    image = picture(obj, curvature, color_map, **options)
+    Image.fromarray(image).save(str(path), format="PNG", optimize=True)
+    return image
+
+
+def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), **options):
+    """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
+
+    Takes the arguments of :func:`picture`; the picture is 640 x 480 unless ``window_size`` says otherwise.
+    """
+    from IPython.display import Image
     from PIL import Image as PILImage
 
     buf = io.BytesIO()
-    PILImage.fromarray(np.asarray(png)).save(buf, format="PNG")
+    PILImage.fromarray(picture(obj, curvature, color_map, window_size=window_size, **options)).save(buf, format="PNG")
     return Image(data=buf.getvalue(), format="png")
+
+
+def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=None):
+    """The bare offscreen rendering of ``mesh`` (no frame, no legend) to a PNG file; returns the image.
+
+    Kept for image references of the mesh colours alone; pictures for people come from :func:`picture`.
+    """
+    configure_offscreen()
+    plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
+    plotter.set_background("white")
+    if "RGB" in mesh.cell_data:
+        plotter.add_mesh(mesh, scalars="RGB", rgb=True, preference="cell", show_edges=show_edges)
+    elif "RGB" in mesh.point_data:
+        plotter.add_mesh(mesh, scalars="RGB", rgb=True, show_edges=show_edges, smooth_shading=True)
+    else:
+        plotter.add_mesh(mesh, cmap="viridis", show_edges=show_edges, smooth_shading=True)
+    if title:
+        plotter.add_text(title, font_size=12, color="black")
+    centre = np.asarray(mesh.center, dtype=float)
+    d = np.asarray(VIEW_DIRECTION, dtype=float)
+    d /= np.linalg.norm(d)
+    plotter.camera_position = [tuple(centre + d * max(mesh.length, 1e-9)), tuple(centre), (0.0, 0.0, 1.0)]
+    plotter.reset_camera()
+    image = plotter.screenshot(str(path), return_img=True)
+    plotter.close()
+    return np.asarray(image)
+
+
+def export_html(mesh, path, *, show_edges=False, camera=None):
+    """Write an interactive HTML scene (vtk.js via trame) of ``mesh``, with the lab's camera and light."""
+    configure_offscreen()
+    plotter = pv.Plotter(off_screen=True, lighting="none")
+    plot_mesh(mesh, plotter, show_edges=show_edges)
+    style.apply_lights(plotter)
+    azimuth, elevation = camera if camera is not None else (None, None)
+    style.fit_camera(plotter, mesh, azimuth=azimuth, elevation=elevation)
+    plotter.export_html(str(path))
+    plotter.close()

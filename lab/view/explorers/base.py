@@ -1,31 +1,43 @@
-"""Interactive explorers for JupyterLab: ipywidgets controls beside a live PyVista view.
+"""Interactive explorers for JupyterLab: compact ipywidgets controls above a live 3D view that fills the cell.
 
-Each explorer is one call in a notebook (``lab.CurvatureExplorer(surface)``)
-and shows controls next to a 3D view.  The view is live (PyVista's ``trame``
-backend: a trame server inside the kernel, shown in an iframe) when a
-frontend can show it, and a static picture otherwise (``live=False``, when
-grading, or when the trame server cannot start); in notebooks converted
-with nbconvert the explorer's output also carries a PNG of its view.
+Each explorer is one call in a notebook (``lab.CurvatureExplorer(surface)``).
+The view is live when a frontend can show it and a static picture otherwise
+(``live=False``, grading, nbconvert); in converted notebooks the explorer's
+output also carries a PNG of its view, drawn in the lab's picture style
+(:mod:`lab.view.style`).
 
-Threads: VTK's OpenGL context belongs to the kernel's main thread.  JupyterLab
-may deliver widget messages on a comm subshell thread; a render from there
-kills the kernel.  Every callback therefore hops to the main thread
-(``loop.call_soon_threadsafe``) before it touches the plotter (see
-DESIGN.md, "Kernel crash trap"), and the project also ships a JupyterLab
-settings override that keeps comms on the main thread.
+**Rendering mode.** By default the browser renders the geometry itself
+(PyVista's ``client`` backend: vtk.js in the page, the kernel only sends the
+changed arrays), so turning the camera needs no kernel round trip; the
+kernel's plotter never renders while the view is live.  ``backend="server"``
+(images rendered in the kernel and streamed, trame's remote view) and
+``backend="trame"`` (trame's hybrid view, remote by default) remain available,
+also through ``LAB_VIEW_BACKEND``; ``benchmarks/browser.py`` compares the three.
 
-Colour changes only update the colours (lookup table, scalar range, point
-data) of the existing actor; geometry changes (depth, fans) update the
-existing mesh in place; nothing is rebuilt from scratch.
+**Work only on a user action.** Nothing runs by itself: no timers, no
+animation, and widget values set by the explorer itself never call back.
+A control change starts its action as a task on the kernel's event loop; a
+newer change of the same action cancels the older task (intermediate values
+are dropped, never queued), and long actions yield between steps and show
+their progress.
+
+**Threads.** VTK's OpenGL context belongs to the kernel's main thread.
+JupyterLab may deliver widget messages on a comm subshell thread; every
+callback therefore hops to the main thread (``loop.call_soon_threadsafe``)
+before it touches the plotter (DESIGN.md, "Kernel crash trap"), and the
+project also ships a JupyterLab settings override that keeps comms there.
+
+**Lifecycle.** Re-running a cell closes the explorers that cell made before
+(their trame view, plotter, widgets and callbacks), so kernel memory does not
+grow with re-runs; :meth:`Explorer.close` does the same on request.
 """
 
 import asyncio
 import base64
-import contextlib
+import collections
 import html
 import io
 import os
-import sys
 import threading
 import time
 import traceback
@@ -37,11 +49,21 @@ import numpy as np
 import pyvista as pv
 
 from ...geometry.curvature import DegeneratePointWarning
+from .. import style
 from ..render import configure_offscreen
+from .live import push_camera as _push_camera
+from .live import release as _release_view
+from .live import rendering as _rendering
+from .live import show as _show_live
+from .live import update as _update_live
 
-__all__ = ["Explorer", "live_view_possible", "in_jupyter_session", "callback_threads"]
+__all__ = ["Explorer", "live_view_possible", "in_jupyter_session", "callback_threads", "checkpoint"]
 
 _INSTANCES = weakref.WeakSet()
+_BY_CELL = {}  # cell id -> (execution count, [weakref to explorer, ...])
+BACKENDS = ("client", "server", "trame")
+DEFAULT_BACKEND = "client"
+STYLE = {"description_width": "78px"}
 
 
 def callback_threads():
@@ -80,38 +102,124 @@ def _main_loop():
         return None
 
 
+def _running_loop():
+    try:
+        return asyncio.get_running_loop()
+    except RuntimeError:
+        return None
+
+
+@__import__("types").coroutine
+def checkpoint():
+    """Let the event loop run (newer control changes arrive, a newer request cancels this one)."""
+    yield
+
+
+def _current_cell():
+    """(cell id, execution count) of the notebook cell running now, or None outside a notebook cell."""
+    try:
+        from IPython import get_ipython
+
+        shell = get_ipython()
+        parent = shell.kernel.get_parent("shell") if shell is not None and hasattr(shell, "kernel") else None
+        cell = (parent or {}).get("metadata", {}).get("cellId")
+        return (cell, shell.execution_count) if cell else None
+    except Exception:  # pragma: no cover - any other front end
+        return None
+
+
+def _replace_previous(explorer):
+    """Close the explorers that an earlier run of the current cell made; remember this one."""
+    where = _current_cell()
+    if where is None:
+        return
+    cell, count = where
+    previous = _BY_CELL.get(cell)
+    if previous is not None and previous[0] != count:
+        for ref in previous[1]:
+            old = ref()
+            if old is not None and old is not explorer:
+                old.close()
+        previous = None
+    if previous is None:
+        previous = _BY_CELL[cell] = (count, [])
+    previous[1].append(weakref.ref(explorer))
+
+
 class Explorer:
-    """Base of the explorers: a plotter, a view (live or static), a status line, main-thread callbacks.
+    """Base of the explorers: a plotter, a view (live or static), controls, a status line and main-thread actions.
 
     Parameters
     ----------
     window_size : (int, int)
-        Size of the 3D view in pixels.
+        Size of the static picture in pixels; the live view takes the width of
+        the notebook's output and keeps this aspect ratio.
     live : bool, optional
-        Force a live (trame) or a static view; default: live when possible.
+        Force a live or a static view; default: live when possible.
+    backend : str, optional
+        ``"client"`` (default: the browser renders with vtk.js), ``"server"``
+        (images rendered in the kernel) or ``"trame"`` (trame's hybrid view).
     """
 
     title = "explorer"
+    camera_direction = None  #: a fixed view direction for the camera; None: the lab's automatic oblique view
 
-    def __init__(self, *, window_size=(640, 480), live=None):
+    def __init__(self, *, window_size=(800, 500), live=None, backend=None):
         configure_offscreen()
         self._loop = _main_loop()
-        self.window_size = tuple(window_size)
-        self.plotter = pv.Plotter(notebook=True, off_screen=True, window_size=list(self.window_size))
+        self.window_size = tuple(int(x) for x in window_size)
+        self.backend = backend or os.environ.get("LAB_VIEW_BACKEND") or DEFAULT_BACKEND
+        if self.backend not in BACKENDS:
+            raise ValueError(f"backend must be one of {', '.join(BACKENDS)}; got {self.backend!r}")
+        self.plotter = pv.Plotter(notebook=True, off_screen=True, window_size=list(self.window_size), lighting="none")
         self.plotter.set_background("white")
         # Multisampling triples the cost of a software (llvmpipe) render; explorers answer first.
         self.plotter.ren_win.SetMultiSamples(0)
+        style.apply_lights(self.plotter)
         self.live = live_view_possible() if live is None else bool(live)
-        self.status = W.HTML(layout=W.Layout(min_height="1.5em"))
+        self.status = W.HTML(layout=W.Layout(min_height="1.4em", flex="1 1 auto"))
+        self.progress = W.FloatProgress(value=0.0, min=0.0, max=1.0, bar_style="info",
+                                        layout=W.Layout(width="140px", height="14px", visibility="hidden"))
+        self.legend_view = W.HTML(layout=W.Layout(width="100%"))
+        self.legend_view.add_class("lab-legend-view")
         self.timings = {}
+        self.counts = collections.Counter()  # how often each action ran: the idle test counts them
         self.callback_threads = []  # where widget callbacks arrived (the renders always run on the main thread)
+        self.last_error = None
+        self._tasks = {}
+        self._observers = []
+        self._widgets = []
         self._view = None
         self._viewer = None
         self._widget = None
         self._syncing = False
+        self._closed = False
         _INSTANCES.add(self)
+        _replace_previous(self)
 
-    # -- threads and errors -------------------------------------------------
+    # -- controls -------------------------------------------------------------
+
+    def _control(self, widget):
+        """Register a widget of this explorer (closed with it)."""
+        self._widgets.append(widget)
+        return widget
+
+    def _observe(self, widget, action, names="value"):
+        """Run ``action`` (a method, plain or async) on the main thread when ``widget`` changes."""
+        handler = self._callback(action)
+        widget.observe(handler, names)
+        self._observers.append((widget, handler, names))
+
+    def _callback(self, action):
+        """An ipywidgets observer that requests ``action`` on the main thread (errors go to the status line)."""
+
+        def observer(change=None):
+            if self._syncing or self._closed:
+                return
+            self.callback_threads.append(threading.current_thread().name)
+            self._on_main(self._request, action)
+
+        return observer
 
     def _on_main(self, func, *args):
         """Run ``func`` on the kernel's main thread (now, if this is it)."""
@@ -120,34 +228,88 @@ class Explorer:
         else:
             self._loop.call_soon_threadsafe(func, *args)
 
-    def _callback(self, action):
-        """An ipywidgets observer that runs ``action`` on the main thread, timed, with errors shown in the status line."""
+    class _Quiet:
+        def __init__(self, explorer):
+            self.explorer = explorer
 
-        def observer(change=None):
-            if self._syncing:
-                return
-            self.callback_threads.append(threading.current_thread().name)
-            self._on_main(self._run, action)
+        def __enter__(self):
+            self.explorer._syncing = True
 
-        return observer
+        def __exit__(self, *exc):
+            self.explorer._syncing = False
 
-    @contextlib.contextmanager
     def _quiet(self):
         """Change widget values from code without triggering the callbacks."""
-        self._syncing = True
+        return self._Quiet(self)
+
+    # -- actions ----------------------------------------------------------------
+
+    def _request(self, action):
+        """Start ``action``; a running request of the same action is cancelled (latest wins)."""
+        if self._closed:
+            return
+        name = getattr(action, "__name__", "action")
+        loop = _running_loop()
+        if loop is None:  # no event loop (tests, scripts): run to the end now
+            self._run(action)
+            return
+        old = self._tasks.get(name)
+        if old is not None and not old.done():
+            old.cancel()
+        self._tasks[name] = loop.create_task(self._run_async(action))
+
+    async def _run_async(self, action):
+        await checkpoint()  # changes that are already queued arrive first; then only the latest runs
+        steps = self._steps(action)
         try:
-            yield
+            while next(steps):
+                await checkpoint()
+        except StopIteration:
+            pass
         finally:
-            self._syncing = False
+            steps.close()
 
     def _run(self, action):
+        """Run ``action`` to its end now (plain or async), timed, errors in the status line."""
+        for _ in self._steps(action):
+            pass
+
+    def _steps(self, action):
+        """Run ``action`` step by step (a generator: True after each step of an async action).
+
+        Warnings are caught per step, never across a pause, so that actions that
+        interleave on the event loop cannot mix up the global warning filters.
+        """
+        name = getattr(action, "__name__", "action")
         start = time.perf_counter()
-        try:
+        self.counts[name] += 1
+        notes = set()
+
+        def step(func):
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                action()
-            notes = sorted({str(w.message) for w in caught if issubclass(w.category, (DegeneratePointWarning, UserWarning))})
-            self._say(" ".join(notes[:2]), "note" if notes else "ok")
+                try:
+                    return func()
+                finally:
+                    notes.update(str(w.message) for w in caught
+                                 if issubclass(w.category, (DegeneratePointWarning, UserWarning)))
+
+        coroutine = None
+        try:
+            result = step(action)
+            if asyncio.iscoroutine(result):
+                coroutine = result
+                while True:
+                    try:
+                        step(lambda: coroutine.send(None))
+                    except StopIteration:
+                        break
+                    yield True
+            self._say(" ".join(sorted(notes)[:2]), "note" if notes else "ok")
+        except GeneratorExit:  # cancelled by a newer request
+            if coroutine is not None:
+                coroutine.close()
+            raise
         except NotImplementedError as exc:
             self._say(f"not implemented yet: {exc}", "note")
         except _Note as note:
@@ -155,11 +317,27 @@ class Explorer:
         except Exception as exc:  # shown to the user, never a traceback in the notebook
             self._say(f"{type(exc).__name__}: {exc}", "error")
             self.last_error = traceback.format_exc()
-        self.timings[getattr(action, "__name__", "action")] = time.perf_counter() - start
+        finally:
+            self._show_progress(None)
+            self.timings[name] = time.perf_counter() - start
+
+    def _show_progress(self, fraction, text=None):
+        """Show a long action's progress (``None`` hides the bar)."""
+        if fraction is None:
+            if self.progress.layout.visibility != "hidden":
+                self.progress.layout.visibility = "hidden"
+            return
+        self.progress.value = float(min(max(fraction, 0.0), 1.0))
+        if self.progress.layout.visibility != "visible":
+            self.progress.layout.visibility = "visible"
+        if text:
+            self._say(text, "busy")
 
     def _say(self, text, kind="ok"):
         colour = {"ok": "#57606a", "note": "#9a6700", "error": "#cf222e", "busy": "#0969da"}[kind]
-        self.status.value = f'<span style="color:{colour}">{html.escape(text)}</span>' if text else ""
+        value = f'<span style="color:{colour}">{html.escape(text)}</span>' if text else ""
+        if self.status.value != value:
+            self.status.value = value
 
     # -- the view -----------------------------------------------------------
 
@@ -173,82 +351,198 @@ class Explorer:
         """Widgets shown below the 3D view (none by default)."""
         return []
 
-    def refresh(self):
-        """Render the current scene into the view (main thread only)."""
-        self.plotter.render()
+    def legend(self):
+        """The :class:`lab.view.legend.Legend` of the current colours, or None."""
+        return None
+
+    def legend_html(self):
+        """What the view's colours mean, as HTML below the view."""
+        legend = self.legend()
+        return legend.html() if legend is not None else ""
+
+    def picture_title(self):
+        return self.title
+
+    def _fit_mesh(self):
+        """The mesh the camera is fitted to (the scene's main surface)."""
+        return None
+
+    def fit_camera(self):
+        """Fit the camera to the surface (the lab's oblique view) and show it."""
+        mesh = self._fit_mesh()
+        if mesh is not None and mesh.n_points:
+            style.fit_camera(self.plotter, mesh, self.camera_direction)
         if self._viewer is not None:
-            self._viewer.update()
+            _push_camera(self._viewer)
+
+    def refresh(self):
+        """Show the current scene: push it to the live view, or render the static picture (main thread only)."""
+        if self._closed:
+            return
+        if self._viewer is not None:
+            start = time.perf_counter()
+            _update_live(self._viewer)
+            self.timings["push"] = time.perf_counter() - start
         elif isinstance(self._view, W.Image):
             self._view.value = self.png()
+        value = self.legend_html()
+        if self.legend_view.value != value:
+            self.legend_view.value = value
 
     def screenshot(self):
-        """The current picture as an array (height, width, 3)."""
-        self.plotter.render()
-        return np.asarray(self.plotter.screenshot(None, return_img=True))
+        """The bare 3D view as an array (height, width, 3), rendered in the kernel."""
+        with _rendering(self.plotter):
+            self.plotter.render()
+            return np.asarray(self.plotter.screenshot(None, return_img=True))[..., :3]
+
+    def picture(self, size=None):
+        """The view in the lab's picture style (title, colour bar or legend) as an RGB array."""
+        legend = self.legend()
+        title = self.picture_title()
+        frame = style.layout(size or self.window_size, title, legend)
+        old = tuple(self.plotter.window_size)
+        try:
+            self.plotter.window_size = list(frame.view[2:])
+            if not self.live:  # the static picture: fitted to its own aspect
+                mesh = self._fit_mesh()
+                if mesh is not None and mesh.n_points:
+                    style.fit_camera(self.plotter, mesh, self.camera_direction)
+            image = self.screenshot()
+        finally:
+            self.plotter.window_size = list(old)
+        return style.compose(image, frame, title=title, legend=legend)
 
     def png(self):
-        """The current picture as PNG bytes."""
+        """The current picture (:meth:`picture`) as PNG bytes."""
         from PIL import Image
 
         buf = io.BytesIO()
-        Image.fromarray(self.screenshot()).save(buf, format="PNG")
+        Image.fromarray(self.picture()).save(buf, format="PNG")
         return buf.getvalue()
 
     def _make_view(self):
         if self.live:
-            # trame-vtklocal (pulled in by trame-pyvista) downloads a WASM bundle from gitlab.kitware.com when
-            # the server starts; offline this prints a traceback into the notebook.  The explorers render on
-            # the server, so keep PyVista from loading it (it imports it inside contextlib.suppress(ImportError)).
-            if "trame.widgets.vtklocal" not in sys.modules:
-                sys.modules["trame.widgets.vtklocal"] = None
             try:
-                self._view = self.plotter.show(
-                    jupyter_backend="trame", return_viewer=True, auto_close=False,
-                    jupyter_kwargs={"collapse_menu": True},
-                )
-                self._viewer = getattr(self._view, "viewer", None)
+                self._view, self._viewer = _show_live(self.plotter, self.backend, aspect=self.window_size)
+                self.refresh()
                 return self._view
             except Exception as exc:  # no trame server here: fall back to pictures
                 self.live = False
                 self._say(f"live 3D view unavailable ({type(exc).__name__}: {exc}); showing pictures", "note")
-        self._view = W.Image(value=self.png(), format="png",
-                             layout=W.Layout(width=f"{self.window_size[0]}px", height=f"{self.window_size[1]}px"))
+        self._view = W.Image(value=self.png(), format="png", layout=W.Layout(width="100%", height="auto"))
+        self._view.add_class("lab-static-view")
         return self._view
 
     @property
     def widget(self):
-        """The ipywidgets box: controls, status line and view."""
+        """The ipywidgets box: title and status, controls, the 3D view, its legend and extra views."""
         if self._widget is None:
             view = self._make_view()
-            left = W.VBox(self._controls() + [self.status], layout=W.Layout(width="320px", min_width="280px"))
-            views = W.VBox([view] + self._extra_views())
-            self._widget = W.HBox([left, views], layout=W.Layout(align_items="flex-start"))
+            head = W.HBox([W.HTML(f"<b>{html.escape(self.title)}</b>", layout=W.Layout(flex="0 0 auto",
+                                                                                       margin="0 1em 0 0")),
+                           self.status, self.progress],
+                          layout=W.Layout(align_items="center", width="auto", padding="0 0 0 4px"))
+            controls = W.GridBox(self._controls(), layout=W.Layout(
+                width="100%", grid_template_columns="repeat(auto-fill, minmax(250px, 1fr))",
+                grid_gap="0px 14px", align_items="center"))
+            controls.add_class("lab-controls")
+            if self.legend_view.value == "":
+                self.refresh()
+            self._widget = W.VBox([head, controls, view, self.legend_view] + self._extra_views(),
+                                  layout=W.Layout(width="100%", min_width="0"))
             self._widget.add_class("lab-explorer")
+            self._widgets += [head, head.children[0], controls, self._widget]
         return self._widget
 
     def _repr_mimebundle_(self, include=None, exclude=None):
-        # The picture survives nbconvert and viewers without a widget manager.  Without a frontend
-        # (nbconvert, nbclient, grading) the explorer shows only that picture: a widget view would make
-        # nbconvert's HTML depend on widget JavaScript from the network.
-        bundle = {
-            "image/png": base64.b64encode(self.png()).decode(),
-            "text/plain": f"{self.title} (open the notebook in JupyterLab for the interactive view)",
-        }
+        # Without a frontend (nbconvert, nbclient, grading) the explorer shows a picture, which survives the
+        # conversion: a widget view would make nbconvert's HTML depend on widget JavaScript from the network.
+        # In a Jupyter session it shows the live view only: a picture would be an offscreen render in the kernel
+        # (time, and a GL context whose memory stays with the process); e.png() makes one on request.
+        text = {"text/plain": f"{self.title} (open the notebook in JupyterLab for the interactive view)"}
         if in_jupyter_session():
-            bundle.update(self.widget._repr_mimebundle_(include=include, exclude=exclude))
-        return bundle
+            return {**text, **self.widget._repr_mimebundle_(include=include, exclude=exclude)}
+        return {"image/png": base64.b64encode(self.png()).decode(), **text}
 
     def close(self):
-        """Close the plotter and the widgets."""
-        if self._widget is not None:
-            self._widget.close()
+        """Close the explorer: cancel its work, drop its callbacks, close its live view, plotter and widgets."""
+        if self._closed:
+            return
+        self._closed = True
+        for task in self._tasks.values():
+            if not task.done():
+                task.cancel()
+        self._tasks.clear()
+        for widget, handler, names in self._observers:
+            try:
+                widget.unobserve(handler, names)
+            except ValueError:  # pragma: no cover - already gone
+                pass
+        self._observers.clear()
+        if self._viewer is not None:
+            _release_view(self._viewer, self.plotter)
+            self._viewer = None
+        for widget in self._widgets + [self.status, self.progress, self.legend_view, self._view, self._widget]:
+            _close_tree(widget)
+        self._widgets.clear()
+        self._view = self._widget = None
         self.plotter.close()
+        self.plotter.deep_clean()
+        _INSTANCES.discard(self)
+        self._drop_data()
+        _trim_memory()
+
+    def _drop_data(self):
+        """Let the meshes and arrays go even while something (IPython's ``Out``, a variable) keeps the explorer."""
+        for name, value in list(vars(self).items()):
+            if isinstance(value, (pv.DataObject, np.ndarray)) or (
+                    isinstance(value, dict) and any(isinstance(v, pv.DataObject) for v in value.values())):
+                setattr(self, name, None)
+            elif name in ("fan", "isodistance", "_current_patches", "_base", "source", "actor", "lut", "plotter"):
+                setattr(self, name, None)
+
+    @property
+    def closed(self):
+        return self._closed
+
+    @property
+    def busy(self):
+        """Whether an action is still running or waiting to run on the event loop."""
+        return any(not task.done() for task in self._tasks.values())
+
+
+def _trim_memory():
+    """Hand freed memory back to the system (glibc keeps freed blocks of the many threads' arenas otherwise)."""
+    import ctypes
+    import gc
+
+    gc.collect()
+    try:
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):  # not glibc
+        pass
+
+
+def _close_tree(widget):
+    """Close a widget with everything it made: its children, its layout and style widgets."""
+    if widget is None:
+        return
+    for child in getattr(widget, "children", ()) or ():
+        _close_tree(child)
+    for part in ("layout", "style"):
+        sub = getattr(widget, part, None)
+        if isinstance(sub, W.Widget):
+            sub.close()
+    widget.close()
 
 
 def _dropdown(options, value, description):
-    return W.Dropdown(options=options, value=value, description=description, style={"description_width": "90px"},
-                      layout=W.Layout(width="300px"))
+    return W.Dropdown(options=options, value=value, description=description, style=STYLE, layout=_layout())
 
+
+def _layout():
+    """A control that fills its grid cell (auto, not 100%: the widget's own margin would overflow the cell)."""
+    return W.Layout(width="auto", min_width="0")
 
 
 class _Note(Exception):

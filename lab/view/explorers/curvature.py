@@ -1,7 +1,6 @@
 """The curvature explorer: a surface coloured by K, H, κ1, κ2, strain energy or the classification, at any depth."""
 
 import html
-import warnings
 
 import ipywidgets as W
 import numpy as np
@@ -9,15 +8,16 @@ import pyvista as pv
 
 from ... import mesh as _mesh
 from ...geometry import colormaps
-from ...geometry.curvature import Curvature, CurvatureMode, DegeneratePointWarning, curvature_values
+from ...geometry.curvature import Curvature, CurvatureMode, curvature_values, zero_tolerance
 from ...model.patches import BezierPatches
-from ..render import VIEW_DIRECTION, set_camera
-from .base import Explorer, _dropdown
+from .. import legend as _legend
+from .. import style
+from .base import STYLE, Explorer, _dropdown, _layout, checkpoint
 
 __all__ = ["CurvatureExplorer"]
 
 
-# Colour maps of the explorer: label -> (kind, name); kind "h" uses the practical's ramp h.
+# Colour maps of the explorer: label -> name; the practical's ramp h, Dill's bands, or a perceptual map.
 _H_MAPS = {
     "h∘f2 linear (min/max)": "linear",
     "h∘f1 cut [0, 1]": "cut",
@@ -36,6 +36,8 @@ _MEASURES = {
     "κ1² + κ2²  strain energy": "strain-energy",
     "classification (sign of K)": "classification",
 }
+#: maps whose range the range control sets (the others fix their own: cut [0, 1], ± max, percentiles, …)
+_RANGED = {"linear", "dill", *_PERCEPTUAL.values()}
 
 
 def _h_cmap():
@@ -50,6 +52,11 @@ def _dill_cmap():
     return ListedColormap(colormaps.DILL_COLORS, name="dill")
 
 
+def _readout(value):
+    """A range end as the readout shows it: 4 significant digits."""
+    return _legend.format_values([value], spacing=max(abs(value), 1e-300) * 1e-2)[0].replace("−", "-")
+
+
 class CurvatureExplorer(Explorer):
     """Curvature of a surface, coloured by a chosen measure and colour map, at a chosen subdivision depth.
 
@@ -61,16 +68,18 @@ class CurvatureExplorer(Explorer):
     patches_class : subclass of lab.BezierPatches, optional
         A class with the student's own ``visualize_curvature``: the explorer
         then shows the colours that method stores, for the practical's four
-        measures and three maps.
+        measures and three maps, with the same colour bar.
     depth : int
         Initial subdivision depth.
     max_depth : int
+    window_size, live, backend
+        As :class:`lab.view.explorers.base.Explorer`.
     """
 
     title = "curvature explorer"
 
-    def __init__(self, surface, patches_class=None, *, depth=2, max_depth=6, window_size=(640, 480), live=None):
-        super().__init__(window_size=window_size, live=live)
+    def __init__(self, surface, patches_class=None, *, depth=2, max_depth=6, window_size=(800, 500), live=None,
+                 backend=None):
         if isinstance(surface, BezierPatches):
             base = surface
         elif hasattr(surface, "to_bezier_patches"):
@@ -83,6 +92,7 @@ class CurvatureExplorer(Explorer):
             raise TypeError(f"patches_class must be a subclass of lab.BezierPatches; got {patches_class!r}")
         if patches_class is not None and base is None:
             raise TypeError(f"{type(surface).__name__} is not made of Bézier patches: no visualize_curvature to show")
+        super().__init__(window_size=window_size, live=live, backend=backend)
         self.student = patches_class
         self._base = base
         self._meshes = {}
@@ -90,38 +100,54 @@ class CurvatureExplorer(Explorer):
         student = patches_class is not None
         measures = {k: v for k, v in _MEASURES.items() if not student or v in ("gaussian", "mean", "k1", "k2")}
         maps = dict(list(_H_MAPS.items())[:3]) if student else {**_H_MAPS, **_PERCEPTUAL}
-        self.measure = _dropdown(list(measures.items()), "gaussian", "measure")
-        self.color_map = _dropdown(list(maps.items()), "linear", "colour map")
-        self.depth = W.IntSlider(value=depth, min=0, max=max_depth, description="depth", style={"description_width": "90px"},
-                                 layout=W.Layout(width="300px"))
-        self.range_mode = W.ToggleButtons(options=[("auto", "auto"), ("± max", "symmetric"), ("manual", "manual")],
-                                          value="auto", description="range",
-                                          style={"description_width": "90px", "button_width": "58px"},
-                                          tooltips=["min … max of the values", "−max|value| … +max|value|",
-                                                    "the min / max slider"])
-        self.range = W.FloatRangeSlider(value=(-1.0, 1.0), min=-10.0, max=10.0, step=0.001, description="min / max",
-                                        readout_format=".3g", disabled=True, style={"description_width": "90px"},
-                                        layout=W.Layout(width="300px"))
+        c = self._control
+        self.measure = c(_dropdown(list(measures.items()), "gaussian", "measure"))
+        self.color_map = c(_dropdown(list(maps.items()), "linear", "colour map"))
+        self.depth = c(W.IntSlider(value=depth, min=0, max=max_depth, description="depth", style=STYLE,
+                                   continuous_update=False, layout=_layout()))
+        self.range_mode = c(W.ToggleButtons(
+            options=[("auto", "auto"), ("± max", "symmetric"), ("manual", "manual")], value="auto",
+            description="range", style={"description_width": "46px", "button_width": "auto"}, layout=_layout(),
+            tooltips=["min … max of the values", "−max|value| … +max|value|", "type min and max"]))
+        self.range_mode.add_class("lab-range-mode")
+        self.range_min = c(W.Text(value="", description="min", continuous_update=False, disabled=True,
+                                  style={"description_width": "30px"}, layout=W.Layout(width="auto", flex="1 1 0", min_width="0")))
+        self.range_max = c(W.Text(value="", description="max", continuous_update=False, disabled=True,
+                                  style={"description_width": "30px"}, layout=W.Layout(width="auto", flex="1 1 0", min_width="0")))
+        self.range_min.add_class("lab-range-min")
+        self.range_max.add_class("lab-range-max")
+        self.range_box = c(W.HBox([self.range_min, self.range_max], layout=_layout()))
         # the control the browser tests change (for the practical's maps on K, linear and cut look alike)
-        (self.measure if patches_class is not None else self.color_map).add_class("lab-primary-control")
-        self.show_net = W.Checkbox(value=False, description="control net", indent=False)
-        self.show_borders = W.Checkbox(value=False, description="patch borders", indent=False)
-        self.info = W.HTML()
+        (self.measure if student else self.color_map).add_class("lab-primary-control")
+        self.depth.add_class("lab-depth")
+        self.show_net = c(W.Checkbox(value=False, description="control net", indent=False,
+                                     layout=W.Layout(width="auto")))
+        self.show_borders = c(W.Checkbox(value=False, description="patch borders", indent=False,
+                                         layout=W.Layout(width="auto")))
+        self.fit_button = c(W.Button(description="fit view", tooltip="the oblique view of the whole surface",
+                                     layout=W.Layout(width="auto")))
+        self.info = c(W.HTML())
+        self.clim = (0.0, 1.0)  # the range of values the colours span now (what the readouts show)
+        self._manual = None
         if student:
             self.range_mode.disabled = True
-            self.range_mode.value = "auto"
         self._build_scene()
-        self.color_map.observe(self._callback(self.recolor), "value")
-        self.measure.observe(self._callback(self.recolor), "value")
-        self.range_mode.observe(self._callback(self.recolor), "value")
-        self.range.observe(self._callback(self.recolor), "value")
-        self.depth.observe(self._callback(self.set_depth), "value")
-        self.show_net.observe(self._callback(self.toggle_overlays), "value")
-        self.show_borders.observe(self._callback(self.toggle_overlays), "value")
+        self._observe(self.color_map, self.recolor)
+        self._observe(self.measure, self.recolor)
+        self._observe(self.range_mode, self.change_range_mode)
+        self._observe(self.range_min, self.type_range)
+        self._observe(self.range_max, self.type_range)
+        self._observe(self.depth, self.set_depth)
+        self._observe(self.show_net, self.toggle_overlays)
+        self._observe(self.show_borders, self.toggle_overlays)
+        self.fit_button.on_click(lambda _: self._on_main(self._request, self.fit_camera))
 
     def _controls(self):
-        return [W.HTML(f"<b>{html.escape(self.title)}</b>"), self.measure, self.color_map, self.range_mode, self.range,
-                self.depth, W.HBox([self.show_net, self.show_borders]), self.info]
+        return [self.measure, self.color_map, self.range_mode, self.range_box, self.depth,
+                W.HBox([self.show_net, self.show_borders, self.fit_button],
+                       layout=W.Layout(width="auto", justify_content="space-between", align_items="center",
+                                       flex_flow="row wrap")),
+                self.info]
 
     # -- geometry -------------------------------------------------------------
 
@@ -136,15 +162,13 @@ class CurvatureExplorer(Explorer):
         """The corner mesh at ``depth`` (cached; the student's mode recomputes colours each time)."""
         if self.student is None and depth in self._meshes:
             return self._meshes[depth]
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", DegeneratePointWarning)
-            if self._base is None:
-                n = 8 * 2**depth + 1
-                patches, mesh = None, _mesh.surface_mesh(self.source, n, n)
-            else:
-                patches = self._patches(depth)
-                mesh = _mesh.patches_mesh(patches)
-        mesh.point_data["display"] = np.zeros(mesh.n_points)
+        if self._base is None:
+            n = 8 * 2**depth + 1
+            patches, mesh = None, _mesh.surface_mesh(self.source, n, n)
+        else:
+            patches = self._patches(depth)
+            mesh = _mesh.patches_mesh(patches)
+        _prepare(mesh)
         if self.student is None:
             self._meshes[depth] = mesh
         self._current_patches = patches
@@ -154,21 +178,20 @@ class CurvatureExplorer(Explorer):
         self.mesh = self._mesh_for(self.depth.value).copy()
         self.lut = pv.LookupTable()
         self.lut.apply_cmap(_h_cmap(), 256)
-        self.actor = self.plotter.add_mesh(self.mesh, scalars="display", cmap=_h_cmap(), smooth_shading=True,
-                                           show_scalar_bar=False)
+        self.actor = self.plotter.add_mesh(self.mesh, scalars="display", cmap=_h_cmap(), show_scalar_bar=False,
+                                           **style.SURFACE_PROPERTIES)
+        self.actor.prop.interpolation = "gouraud"  # smooth, with the exact normals N of the surface
         self.actor.mapper.lookup_table = self.lut
-        self.scalar_bar = self.plotter.add_scalar_bar(mapper=self.actor.mapper, title="K", vertical=True,
-                                                      position_x=0.86, position_y=0.15, width=0.08, height=0.7,
-                                                      color="black", fmt="%.3g", n_labels=5)
         self.net_actor = self._add_control_net()
         self.borders_actor = None
-        set_camera(self.plotter, self.mesh, VIEW_DIRECTION)
-        self._legend = None
+        style.fit_camera(self.plotter, self.mesh)
         self._run(self.recolor)
 
+    def _fit_mesh(self):
+        return self.mesh
+
     def _add_control_net(self):
-        src = self.source
-        P = getattr(src, "control_points", None)
+        P = getattr(self.source, "control_points", None)
         if P is None:
             return None
         P = np.asarray(P)
@@ -179,22 +202,47 @@ class CurvatureExplorer(Explorer):
         actor.SetVisibility(False)
         return actor
 
-    def set_depth(self):
-        """Recompute the patches at the slider's depth and update the mesh in place."""
-        self._say(f"refining to depth {self.depth.value} …", "busy")
-        new = self._mesh_for(self.depth.value)
+    async def set_depth(self):
+        """Recompute the patches at the slider's depth and update the mesh in place (cancelled by a newer depth)."""
+        depth = self.depth.value
+        if self.student is None and depth in self._meshes:
+            new = self._meshes[depth]
+        else:
+            self._show_progress(0.1, f"refining to depth {depth} …")
+            await checkpoint()
+            if self._base is not None and self.student is None:
+                patches = self._base.copy()
+                for level in range(depth):
+                    patches.refine(1)
+                    self._show_progress(0.1 + 0.4 * (level + 1) / max(depth, 1),
+                                        f"refining to depth {depth}: {len(patches)} patches …")
+                    await checkpoint()
+                self._show_progress(0.6, f"curvature at the corners of {len(patches)} patches …")
+                await checkpoint()
+                new = _mesh.patches_mesh(patches)
+                _prepare(new)
+                self._meshes[depth] = new
+            else:
+                new = self._mesh_for(depth)
+            self._show_progress(0.9, "updating the view …")
+            await checkpoint()
         self.mesh.copy_from(new, deep=False)
         if self.borders_actor is not None:
             self.plotter.remove_actor(self.borders_actor)
             self.borders_actor = None
+            if self.show_borders.value:
+                self._add_borders()
         self.recolor()
+
+    def _add_borders(self):
+        self.borders_actor = self.plotter.add_mesh(self.mesh.extract_all_edges(), color="#333333", line_width=1,
+                                                   pickable=False, lighting=False)
 
     def toggle_overlays(self):
         if self.net_actor is not None:
             self.net_actor.SetVisibility(self.show_net.value)
         if self.show_borders.value and self.borders_actor is None:
-            self.borders_actor = self.plotter.add_mesh(self.mesh.extract_all_edges(), color="#333333", line_width=1,
-                                                       pickable=False)
+            self._add_borders()
         if self.borders_actor is not None:
             self.borders_actor.SetVisibility(self.show_borders.value)
         self.refresh()
@@ -210,107 +258,148 @@ class CurvatureExplorer(Explorer):
             return np.asarray(m["K"])
         return np.asarray(curvature_values(curv, mode))
 
+    def _map_name(self):
+        return "classification" if self.measure.value == "classification" else self.color_map.value
+
+    def _measure_for_tol(self):
+        return "gaussian" if self.measure.value == "classification" else self.measure.value
+
+    def _tol(self):
+        size = float(np.linalg.norm(np.ptp(np.asarray(self.mesh.points), axis=0)))
+        return zero_tolerance(self._measure_for_tol(), size)
+
+    def change_range_mode(self):
+        """Switch the range mode; "manual" starts at the range used now."""
+        if self.range_mode.value == "manual":
+            self._manual = tuple(self.clim) if self.clim is not None else (0.0, 1.0)
+        self.recolor()
+
+    def type_range(self):
+        """A min or max typed in manual mode."""
+        if self.range_mode.value != "manual" or self.student is not None:
+            return
+        lo, hi = self._manual or self.clim
+        try:
+            typed = (float(self.range_min.value.replace("−", "-")), float(self.range_max.value.replace("−", "-")))
+        except ValueError:
+            self._show_readouts()
+            raise ValueError("min and max must be numbers, e.g. -0.5 and 2") from None
+        # an unchanged field keeps its exact value (the readout shows it rounded)
+        lo = lo if self.range_min.value == _readout(lo) else typed[0]
+        hi = hi if self.range_max.value == _readout(hi) else typed[1]
+        if not hi > lo:
+            self._show_readouts()
+            raise ValueError(f"max must be larger than min; got min {lo:g}, max {hi:g}")
+        self._manual = (lo, hi)
+        self.recolor()
+
+    def _range(self, v, name):
+        """The colour range for ``v`` under map ``name`` and the range mode, in curvature units."""
+        if name not in _RANGED:
+            return _legend.map_range(name, v)
+        finite = v[np.isfinite(v)]
+        lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+        mode = self.range_mode.value
+        if mode == "manual" and self._manual is not None:
+            lo, hi = self._manual
+        elif mode == "symmetric":
+            m = max(abs(lo), abs(hi)) or 1.0
+            lo, hi = -m, m
+        return lo, hi
+
+    def _show_readouts(self):
+        """The min / max fields show the range used; editable in manual mode for the maps that take a range."""
+        ranged = self._map_name() in _RANGED and self.student is None
+        editable = ranged and self.range_mode.value == "manual"
+        lo_text, hi_text = ("", "") if self.clim is None else (_readout(self.clim[0]), _readout(self.clim[1]))
+        with self._quiet():
+            for field, text in ((self.range_min, lo_text), (self.range_max, hi_text)):
+                if field.value != text:
+                    field.value = text
+                if field.disabled == editable:
+                    field.disabled = not editable
+            if self.student is None and self.range_mode.disabled == ranged:
+                self.range_mode.disabled = not ranged
+
     def recolor(self):
         """Update colours only: point data, lookup table and scalar range of the existing actor."""
+        if self.color_map.value is None or self.measure.value is None:  # a dropdown without a choice
+            return
         if self.student is not None:
             self._recolor_student()
         else:
             self._recolor_library()
+        self._show_readouts()
         self.refresh()
 
-    def _range(self, v):
-        """Colour range for ``v``: min/max (auto), ±max|v| (symmetric) or the slider (manual)."""
-        finite = v[np.isfinite(v)]
-        lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-        mode = self.range_mode.value
-        if mode == "manual":
-            self.range.disabled = False
-            lo, hi = self.range.value
-        else:
-            if mode == "symmetric":
-                m = max(abs(lo), abs(hi)) or 1.0
-                lo, hi = -m, m
-            span = max(hi - lo, 1e-12)
-            with self._quiet():  # the slider follows the automatic range without calling back
-                self.range.min, self.range.max = -1e300, 1e300
-                self.range.value = (lo, hi)
-                self.range.min, self.range.max = lo - span, hi + span
-                self.range.step = span / 1000
-                self.range.disabled = True
-        if hi <= lo:
-            hi = lo + max(abs(lo), 1.0) * 1e-9
-        return lo, hi
+    def legend(self):
+        """The colour bar (or classification legend) of the current colours, in curvature units."""
+        measure = self.measure.value
+        name = self._map_name()
+        values = self._legend_values()
+        clim = self.clim if name in _RANGED else None
+        return _legend.legend(measure, name, values, clim=clim, tol=self._tol())
+
+    def _legend_values(self):
+        if self.student is not None and "values" in self.mesh.point_data:
+            return np.asarray(self.mesh.point_data["values"])
+        return self.values()
+
+    def picture_title(self):
+        maps = {v: k for k, v in self.color_map.options}
+        what = _legend.MEASURES[self.measure.value][1] if self.measure.value != "classification" else "K"
+        mine = ", your visualize_curvature" if self.student is not None else ""
+        return f"{what}, {maps.get(self.color_map.value, self.color_map.value)}, depth {self.depth.value}{mine}"
 
     def _recolor_library(self):
         v = self.values()
-        name = self.color_map.value
-        measure = self.measure.value
-        if measure == "classification":
-            name = "classification"
+        name = self._map_name()
         display = self.mesh.point_data["display"]
-        finite = np.isfinite(v)
-        cmap = _h_cmap()
-        if name in ("linear",) or name in _PERCEPTUAL.values():
-            display[:] = v
-            clim = self._range(v)
-            cmap = _h_cmap() if name == "linear" else name
-        elif name == "cut":
+        cmap, n_colors = _h_cmap(), 256
+        clim = self._range(v, name)
+        if name == "cut":
             display[:] = np.clip(np.nan_to_num(v), 0, 1)
-            clim = (0.0, 1.0)
+            ends = (0.0, 1.0)
         elif name == "classification":
-            size = float(np.linalg.norm(np.ptp(self.mesh.points, axis=0)))
-            power = 2 if measure in ("gaussian", "classification", "strain-energy") else 1
-            tol = colormaps.ZERO_TOL / size**power
+            tol = self._tol()
             display[:] = np.where(v > tol, 1.0, np.where(v < -tol, 0.0, 0.5))
-            clim = (0.0, 1.0)
-        elif name == "dill":
-            display[:] = v
-            clim = colormaps.DILL_RANGE if self.range_mode.value == "auto" else self._range(v)
-            cmap = _dill_cmap()
-        elif name == "symmetric":
-            display[:] = v
-            m = float(np.max(np.abs(v[finite]))) if finite.any() else 1.0
-            clim = (-m, m) if m > 0 else (-1.0, 1.0)
-        elif name == "percentile":
-            display[:] = v
-            lo, hi = np.percentile(v[finite], [2, 98]) if finite.any() else (0.0, 1.0)
-            clim = (float(lo), float(hi) if hi > lo else float(lo) + 1e-12)
+            ends = (0.0, 1.0)
         elif name == "signed-log":
-            display[:] = np.nan_to_num(colormaps.signed_log(np.nan_to_num(v)), nan=0.5)
-            clim = (0.0, 1.0)
-        else:  # pragma: no cover - options are fixed
-            raise ValueError(f"unknown colour map {name!r}")
-        self.lut.apply_cmap(cmap, 5 if name == "dill" else 256)
-        self.lut.scalar_range = clim
+            finite = np.isfinite(v)
+            display[:] = 0.5
+            if finite.any():
+                display[finite] = colormaps.signed_log(v[finite])
+            ends = (0.0, 1.0)
+        else:
+            display[:] = v
+            ends = clim
+            if name == "dill":
+                cmap, n_colors = _dill_cmap(), 5
+            elif name in _PERCEPTUAL.values():
+                cmap = name
+        lo, hi = ends
+        if not hi > lo:
+            hi = lo + max(abs(lo), 1.0) * 1e-9
+        self.clim = clim
+        self.lut.apply_cmap(cmap, n_colors)
+        self.lut.scalar_range = (lo, hi)
         self.lut.nan_color = "gray"
-        self.actor.mapper.scalar_range = clim
+        self.actor.mapper.scalar_range = (lo, hi)
         self.actor.mapper.SetScalarModeToUsePointFieldData()
         self.actor.mapper.SelectColorArray("display")
         self.mesh.point_data.active_scalars_name = "display"
         self.mesh.GetPointData().GetArray("display").Modified()  # the array was changed in place
-        self._legend_for(name, measure)
-        label = {"gaussian": "K", "mean": "H", "k1": "κ1", "k2": "κ2", "strain-energy": "κ1²+κ2²",
-                 "classification": "K"}[measure]
-        self.scalar_bar.SetTitle(label)
-        self.scalar_bar.SetVisibility(name != "classification")
         n = int(np.count_nonzero(self.mesh.point_data["degenerate"]))
         what = "patches" if self._base is not None else "grid cells"
-        self.info.value = (f"<small>{self.mesh.n_cells} {what} at depth {self.depth.value}; range "
-                           f"{np.nanmin(v):.4g} … {np.nanmax(v):.4g}" + (f"; {n} degenerate points" if n else "") + "</small>")
-
-    def _legend_for(self, name, measure):
-        """Show the classification legend for the classification map, hide it otherwise (built once)."""
-        if name == "classification" and self._legend is None:
-            self._legend = self.plotter.add_legend(
-                [["K > 0 elliptic", "red"], ["K = 0 parabolic, flat", "lime"], ["K < 0 hyperbolic", "blue"]],
-                bcolor="white", face="rectangle", size=(0.42, 0.16), loc="lower right")
-        if self._legend is not None:
-            self._legend.SetVisibility(name == "classification")
+        finite = v[np.isfinite(v)]
+        span = (f"values {_readout(float(finite.min()))} … {_readout(float(finite.max()))}".replace("-", "−")
+                if finite.size else "no finite values")
+        self.info.value = (f"<small>{self.mesh.n_cells} {what} at depth {self.depth.value}; {span}"
+                           + (f"; {n} degenerate points" if n else "") + "</small>")
 
     def _recolor_student(self):
         """Run the student's visualize_curvature and show the colours it stored."""
         self.actor.mapper.ScalarVisibilityOff()  # a plain surface until the student's colours arrive
-        self.scalar_bar.SetVisibility(False)
         patches = self._patches(self.depth.value)
         mode = self.measure.value
         cmap = self.color_map.value
@@ -318,10 +407,25 @@ class CurvatureExplorer(Explorer):
         if not np.all(np.isfinite(patches.colors)):
             raise ValueError("your visualize_curvature did not store colours for every patch (set_colors)")
         new = _mesh.patches_mesh(patches)
+        _prepare(new)
         self.mesh.copy_from(new, deep=False)
         self.actor.mapper.SetScalarModeToUsePointFieldData()
         self.actor.mapper.SelectColorArray("RGB")
         self.mesh.point_data.active_scalars_name = "RGB"
         self.actor.mapper.SetColorModeToDirectScalars()
         self.actor.mapper.ScalarVisibilityOn()
-        self.info.value = f"<small>your visualize_curvature on {len(patches)} patches</small>"
+        v = np.asarray(new.point_data["values"]) if "values" in new.point_data else self.values()
+        self.clim = _legend.map_range(cmap, v) if cmap != "classification" else None
+        self.info.value = (f"<small>your visualize_curvature on {len(patches)} patches; values "
+                           f"{_readout(float(np.nanmin(v)))} … {_readout(float(np.nanmax(v)))}</small>".replace("-", "−"))
+
+
+def _prepare(mesh):
+    """Point data the view needs, in single precision (half the bytes to send to the browser and to draw):
+    the colour array, and the exact unit normals N of the surface as the shading normals."""
+    mesh.points = np.asarray(mesh.points, dtype=np.float32)
+    mesh.point_data["display"] = np.zeros(mesh.n_points, dtype=np.float32)
+    if "N" in mesh.point_data:
+        mesh.point_data["Normals"] = np.nan_to_num(np.asarray(mesh.point_data["N"], dtype=np.float32))
+        mesh.point_data.active_normals_name = "Normals"
+    return mesh

@@ -1,6 +1,6 @@
 """Explorers of the interrogation tools: focal surfaces, reflection lines and isophotes, geodesic fans."""
 
-import io
+import html
 import warnings
 
 import ipywidgets as W
@@ -9,12 +9,19 @@ import pyvista as pv
 
 from ... import mesh as _mesh
 from ...geometry.curvature import DegeneratePointWarning
-from ...interrogation.geodesics import geodesic_fan, normal_section_fan, polar_isodistance
+from ...interrogation.geodesics import Fan, geodesic_fan, normal_section_fan, polar_isodistance
 from ...interrogation.meshes import as_curvature_mesh, focal_surface, isophotes, reflection_lines, stripe_mapping
-from ..render import VIEW_DIRECTION, set_camera
-from .base import Explorer, _dropdown, _Note, _polylines
+from ...interrogation.reflection import VIEW_DIRECTION
+from .. import legend as _legend
+from .. import style
+from .base import STYLE, Explorer, _dropdown, _layout, _Note, _polylines, checkpoint
 
 __all__ = ["FocalExplorer", "ReflectionExplorer", "GeodesicExplorer"]
+
+
+def _slider(cls, description, **kwargs):
+    kwargs.setdefault("continuous_update", False)  # act on release: no intermediate values
+    return cls(description=description, style=STYLE, layout=_layout(), **kwargs)
 
 
 class FocalExplorer(Explorer):
@@ -23,41 +30,46 @@ class FocalExplorer(Explorer):
     title = "focal surface explorer"
     FUNCTIONS = {"H  mean": "mean", "K  Gaussian": "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1", "κ2": "k2"}
 
-    def __init__(self, surface, *, scale=None, resolution=48, window_size=(640, 480), live=None):
-        super().__init__(window_size=window_size, live=live)
+    def __init__(self, surface, *, scale=None, resolution=48, window_size=(800, 500), live=None, backend=None):
+        super().__init__(window_size=window_size, live=live, backend=backend)
         self._focal = focal_surface
         self.source = surface
         self.resolution = resolution
-        self.function = _dropdown(list(self.FUNCTIONS.items()), "mean", "function")
+        self.function = self._control(_dropdown(list(self.FUNCTIONS.items()), "mean", "function"))
         if scale is None:  # the largest displacement a tenth of the model's size
             probe = focal_surface(surface, scale=1.0, function="mean", resolution=resolution)
             size = float(np.linalg.norm(np.ptp(probe.point_data["X"], axis=0)))
             fmax = float(np.max(np.abs(probe.point_data["f"]))) or 1.0
             scale = float(f"{0.1 * size / fmax:.2g}")
         limit = 10 * abs(scale) or 1.0
-        self.scale = W.FloatSlider(value=scale, min=-limit, max=limit, step=limit / 500, description="scale a",
-                                   readout_format=".3g", style={"description_width": "90px"},
-                                   layout=W.Layout(width="300px"))
+        self.scale = self._control(_slider(W.FloatSlider, "scale a", value=scale, min=-limit, max=limit,
+                                           step=limit / 500, readout_format=".3g"))
         self.function.add_class("lab-primary-control")
-        self.show_surface = W.Checkbox(value=True, description="surface", indent=False)
+        self.show_surface = self._control(W.Checkbox(value=True, description="surface", indent=False))
         self._build_scene()
-        self.function.observe(self._callback(self.update_focal), "value")
-        self.scale.observe(self._callback(self.update_focal), "value")
-        self.show_surface.observe(self._callback(self.update_focal), "value")
+        for w in (self.function, self.scale, self.show_surface):
+            self._observe(w, self.update_focal)
 
     def _controls(self):
-        return [W.HTML(f"<b>{self.title}</b>"), self.function, self.scale, self.show_surface]
+        return [self.function, self.scale, self.show_surface]
 
     def _build_scene(self):
         base = self._focal(self.source, scale=0.0, function="mean", resolution=self.resolution)
         self.surface_mesh = base.copy()
         self.surface_actor = self.plotter.add_mesh(self.surface_mesh, color="#c8c8c8", opacity=0.45,
-                                                   smooth_shading=True)
+                                                   smooth_shading=True, **style.SURFACE_PROPERTIES)
         self.focal_mesh = base.copy()
         self.focal_actor = self.plotter.add_mesh(self.focal_mesh, scalars="f", cmap="coolwarm", smooth_shading=True,
-                                                 scalar_bar_args={"title": "f", "color": "black"})
-        set_camera(self.plotter, self.surface_mesh, VIEW_DIRECTION)
-        self.update_focal()
+                                                 show_scalar_bar=False, **style.SURFACE_PROPERTIES)
+        style.fit_camera(self.plotter, self.surface_mesh)
+        self._run(self.update_focal)
+
+    def _fit_mesh(self):
+        return self.surface_mesh
+
+    def legend(self):
+        lim = getattr(self, "_lim", 1.0)
+        return _legend.legend(self.function.value, "coolwarm", clim=(-lim, lim))
 
     def update_focal(self):
         new = self._focal(self.source, scale=self.scale.value, function=self.function.value,
@@ -65,8 +77,9 @@ class FocalExplorer(Explorer):
         self.focal_mesh.points = new.points
         self.focal_mesh.point_data["f"] = new.point_data["f"]
         f = np.asarray(new.point_data["f"])
-        lim = float(np.max(np.abs(f))) or 1.0
-        self.focal_actor.mapper.scalar_range = (-lim, lim)
+        self._lim = float(np.max(np.abs(f[np.isfinite(f)]))) if np.isfinite(f).any() else 1.0
+        self._lim = self._lim or 1.0
+        self.focal_actor.mapper.scalar_range = (-self._lim, self._lim)
         self.surface_actor.SetVisibility(self.show_surface.value)
         self.refresh()
 
@@ -75,34 +88,33 @@ class ReflectionExplorer(Explorer):
     """Reflection lines, isophotes and the striped box mapping on a surface (seeds/002, section 3)."""
 
     title = "reflection explorer"
+    camera_direction = VIEW_DIRECTION  # reflections depend on the eye: look from the one they are computed for
     KINDS = {"stripe box mapping": "stripes", "reflection lines (light lines)": "lines", "isophotes": "isophotes"}
 
-    def __init__(self, surface, *, resolution=64, window_size=(640, 480), live=None):
-        super().__init__(window_size=window_size, live=live)
+    def __init__(self, surface, *, resolution=64, window_size=(800, 500), live=None, backend=None):
+        super().__init__(window_size=window_size, live=live, backend=backend)
         self.source = surface
         self.resolution = resolution
-        self.kind = _dropdown(list(self.KINDS.items()), "stripes", "show")
+        c = self._control
+        self.kind = c(_dropdown(list(self.KINDS.items()), "stripes", "show"))
         self.kind.add_class("lab-primary-control")
-        self.count = W.IntSlider(value=8, min=1, max=40, description="stripes / lines", style={"description_width": "90px"},
-                                 layout=W.Layout(width="300px"))
-        self.azimuth = W.FloatSlider(value=0.0, min=0.0, max=180.0, step=1.0, description="direction °",
-                                     style={"description_width": "90px"}, layout=W.Layout(width="300px"))
-        self.elevation = W.FloatSlider(value=60.0, min=-90.0, max=90.0, step=1.0, description="light elev. °",
-                                       style={"description_width": "90px"}, layout=W.Layout(width="300px"))
-        self.orientation = W.ToggleButtons(options=["horizontal", "vertical"], value="horizontal",
-                                           description="stripes", style={"description_width": "90px",
-                                                                         "button_width": "100px"})
+        self.count = c(_slider(W.IntSlider, "stripes / lines", value=8, min=1, max=40))
+        self.azimuth = c(_slider(W.FloatSlider, "light dir. °", value=0.0, min=0.0, max=180.0, step=1.0,
+                                 readout_format=".0f"))
+        self.elevation = c(_slider(W.FloatSlider, "light elev. °", value=60.0, min=-90.0, max=90.0, step=1.0,
+                                   readout_format=".0f"))
+        self.orientation = c(W.ToggleButtons(options=["horizontal", "vertical"], value="horizontal",
+                                             description="stripes", style={**STYLE, "button_width": "auto"},
+                                             layout=_layout()))
         # light-line spacing as a multiple of the default, which spreads the lines over three diagonals
-        self.spacing = W.FloatSlider(value=1.0, min=0.1, max=3.0, step=0.05, description="line spacing ×",
-                                     readout_format=".2f", style={"description_width": "90px"},
-                                     layout=W.Layout(width="300px"))
+        self.spacing = c(_slider(W.FloatSlider, "line spacing ×", value=1.0, min=0.1, max=3.0, step=0.05,
+                                 readout_format=".2f"))
         self._build_scene()
         for w in (self.kind, self.count, self.azimuth, self.elevation, self.orientation, self.spacing):
-            w.observe(self._callback(self.update_lines), "value")
+            self._observe(w, self.update_lines)
 
     def _controls(self):
-        return [W.HTML(f"<b>{self.title}</b>"), self.kind, self.count, self.orientation, self.spacing,
-                W.HTML("<small>light direction (lines, isophotes):</small>"), self.azimuth, self.elevation]
+        return [self.kind, self.count, self.orientation, self.spacing, self.azimuth, self.elevation]
 
     def _direction(self):
         a = np.radians(self.azimuth.value)
@@ -113,11 +125,15 @@ class ReflectionExplorer(Explorer):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DegeneratePointWarning)
             self.surface_mesh = as_curvature_mesh(self.source, self.resolution)
-        self.surface_actor = self.plotter.add_mesh(self.surface_mesh, color="#e6e6e6", smooth_shading=True)
+        self.surface_actor = self.plotter.add_mesh(self.surface_mesh, color="#e6e6e6", smooth_shading=True,
+                                                   **style.SURFACE_PROPERTIES)
         self.overlay = pv.PolyData()
         self.overlay_actor = None
-        set_camera(self.plotter, self.surface_mesh, VIEW_DIRECTION)
-        self.update_lines()
+        style.fit_camera(self.plotter, self.surface_mesh, self.camera_direction)
+        self._run(self.update_lines)
+
+    def _fit_mesh(self):
+        return self.surface_mesh
 
     def update_lines(self):
         kind = self.kind.value
@@ -144,7 +160,8 @@ class ReflectionExplorer(Explorer):
             self.refresh()
             raise _Note("no lines fall on the surface for this direction and spacing: change them")
         if kind == "stripes":
-            self.overlay_actor = self.plotter.add_mesh(new, scalars="RGB", rgb=True, preference="cell")
+            self.overlay_actor = self.plotter.add_mesh(new, scalars="RGB", rgb=True, preference="cell",
+                                                       **style.SURFACE_PROPERTIES)
             self.surface_actor.SetVisibility(False)
         else:
             self.surface_actor.SetVisibility(True)
@@ -157,7 +174,9 @@ class GeodesicExplorer(Explorer):
     """Fans of geodesics or normal sections from a point and their polar isodistance curves (seeds/003).
 
     The paths and the isodistance curves are drawn on the surface and, below
-    it, in the parameter domain (like figures 2 and 3 of the paper).
+    it, in the parameter domain (like figures 2 and 3 of the paper).  Only what
+    a change needs is recomputed: a new step s_L or number of curves within the
+    length already integrated reuses the paths and recomputes the curves only.
 
     Parameters
     ----------
@@ -176,14 +195,17 @@ class GeodesicExplorer(Explorer):
 
     title = "geodesic explorer"
     KINDS = {"geodesics": "geodesic", "normal sections": "normal-section"}
+    # paths integrated per step: progress, and a newer request cancels between steps.  The vectorised integrator
+    # costs about the same per call whatever the number of paths, so steps are large (2 x 20 paths: +75%).
+    CHUNK = 40
 
-    def __init__(self, surface, start=None, *, n_angles=40, step=None, n_curves=8, window_size=(640, 420), live=None,
-                 count=None):
+    def __init__(self, surface, start=None, *, n_angles=40, step=None, n_curves=8, window_size=(800, 500), live=None,
+                 backend=None, count=None):
         if count is not None:
             warnings.warn("GeodesicExplorer(count=…) is deprecated: the number of isodistance curves is now "
                           "n_curves=… (the number of paths is n_angles)", DeprecationWarning, stacklevel=2)
             n_curves = count
-        super().__init__(window_size=window_size, live=live)
+        super().__init__(window_size=window_size, live=live, backend=backend)
         self.source = surface
         (u0, u1), (v0, v1) = surface.domain
         if start is None:
@@ -194,107 +216,136 @@ class GeodesicExplorer(Explorer):
         size = float(np.linalg.norm(np.ptp(self.surface_mesh.points, axis=0)))
         if step is None:
             step = float(f"{size / (5 * n_curves):.2g}")
-        style = {"description_width": "90px"}
-        lay = W.Layout(width="300px")
-        self.kind = _dropdown(list(self.KINDS.items()), "geodesic", "paths")
-        self.u0 = W.FloatSlider(value=start[0], min=u0, max=u1, step=(u1 - u0) / 200, description="start u0",
-                                style=style, layout=lay, continuous_update=False)
-        self.v0 = W.FloatSlider(value=start[1], min=v0, max=v1, step=(v1 - v0) / 200, description="start v0",
-                                style=style, layout=lay, continuous_update=False)
+        c = self._control
+        self.kind = c(_dropdown(list(self.KINDS.items()), "geodesic", "paths"))
+        self.u0 = c(_slider(W.FloatSlider, "start u0", value=start[0], min=u0, max=u1, step=(u1 - u0) / 200))
+        self.v0 = c(_slider(W.FloatSlider, "start v0", value=start[1], min=v0, max=v1, step=(v1 - v0) / 200))
         self.u0.add_class("lab-primary-control")
-        self.n_angles = W.IntSlider(value=n_angles, min=3, max=160, description="angles", style=style, layout=lay,
-                                    continuous_update=False)
-        self.angle_range = W.FloatRangeSlider(value=(0.0, 360.0), min=0.0, max=360.0, step=1.0, description="α range °",
-                                              style=style, layout=lay, continuous_update=False)
-        self.step = W.BoundedFloatText(value=step, min=size * 1e-4, max=size * 10, step=step / 10,
-                                       description="step s_L", style=style, layout=lay)
-        self.count = W.IntSlider(value=n_curves, min=1, max=40, description="curves", style=style, layout=lay,
-                                 continuous_update=False)
-        self.domain_view = W.Image(format="png", layout=W.Layout(width=f"{window_size[0]}px"))
+        self.n_angles = c(_slider(W.IntSlider, "angles", value=n_angles, min=3, max=160))
+        self.angle_range = c(_slider(W.FloatRangeSlider, "α range °", value=(0.0, 360.0), min=0.0, max=360.0,
+                                     step=1.0, readout_format=".0f"))
+        self.step = c(W.BoundedFloatText(value=step, min=size * 1e-4, max=size * 10, step=step / 10,
+                                         description="step s_L", style=STYLE, layout=_layout()))
+        self.count = c(_slider(W.IntSlider, "curves", value=n_curves, min=1, max=40))
+        self.domain_view = c(W.HTML(layout=W.Layout(width="100%")))
+        self.domain_view.add_class("lab-domain-view")
+        self._fan_key = None
+        self.fan = None
         self._build_scene()
         for w in (self.kind, self.u0, self.v0, self.n_angles, self.angle_range, self.step, self.count):
-            w.observe(self._callback(self.update_fan), "value")
+            self._observe(w, self.update_fan)
 
     def _controls(self):
-        return [W.HTML(f"<b>{self.title}</b>"), self.kind, self.u0, self.v0, self.n_angles, self.angle_range,
-                self.step, self.count]
+        return [self.kind, self.u0, self.v0, self.n_angles, self.angle_range, self.step, self.count]
 
     def _extra_views(self):
         return [self.domain_view]
 
     def _build_scene(self):
-        self.plotter.add_mesh(self.surface_mesh, color="#e8e8e8", smooth_shading=True)
+        self.plotter.add_mesh(self.surface_mesh, color="#e8e8e8", smooth_shading=True, **style.SURFACE_PROPERTIES)
         self.paths_mesh = pv.PolyData()
         self.iso_mesh = pv.PolyData()
         self.start_mesh = pv.PolyData(np.zeros((1, 3)))
         self.paths_actor = None
         self.iso_actor = None
         self.plotter.add_mesh(self.start_mesh, color="black", point_size=10, render_points_as_spheres=True)
-        set_camera(self.plotter, self.surface_mesh, VIEW_DIRECTION)
+        style.fit_camera(self.plotter, self.surface_mesh)
         self._run(self.update_fan)
+
+    def _fit_mesh(self):
+        return self.surface_mesh
+
+    def legend_html(self):
+        if self.fan is None:
+            return ""
+        kind = "geodesics" if self.kind.value == "geodesic" else "normal sections"
+        return (f'<div class="lab-legend" style="font-size:12px;text-align:center">'
+                f'<span style="color:#1f3b73;font-weight:700">━</span> {len(self.fan or [])} {kind} &nbsp; '
+                f'<span style="color:#d62728;font-weight:700">━</span> polar isodistance curves at '
+                f's<sub>L</sub>, 2 s<sub>L</sub>, … (s<sub>L</sub> = {self.step.value:g})</div>')
 
     def _angles(self):
         lo, hi = self.angle_range.value
         n = self.n_angles.value
         if hi - lo >= 360.0 - 1e-9:
-            return None, True
+            return 2 * np.pi * np.arange(n) / n, True
         if hi <= lo:
             raise ValueError("the angle range is empty: move its two ends apart")
         return np.radians(np.linspace(lo, hi, n)), False
 
-    def update_fan(self):
-        """Recompute the fan and the isodistance curves and update the scene in place."""
+    async def update_fan(self):
+        """Recompute what changed: the fan (in steps, with progress) if its start, angles or length grew; the curves."""
         angles, full = self._angles()
-        n = self.n_angles.value
+        n = len(angles)
         length = self.step.value * self.count.value
-        self._say(f"computing {n} {self.kind.value.replace('-', ' ')}s of length {length:g} …", "busy")
-        fan_fn = geodesic_fan if self.kind.value == "geodesic" else normal_section_fan
+        kind = self.kind.value
         uv0 = (self.u0.value, self.v0.value)
-        fan = fan_fn(self.source, uv0, None if angles is not None else n, length, angles=angles, n_samples=61)
+        key = (kind, uv0, n, self.angle_range.value)
+        if self._fan_key != key or self.fan is None or self.fan.length < length * (1 - 1e-12):
+            fan_fn = geodesic_fan if kind == "geodesic" else normal_section_fan
+            paths = []
+            for first in range(0, n, self.CHUNK):
+                self._show_progress(first / n, f"computing {n} {kind.replace('-', ' ')}s of length {length:g}: "
+                                               f"{first} done …")
+                await checkpoint()
+                part = fan_fn(self.source, uv0, None, length, angles=angles[first:first + self.CHUNK], n_samples=61)
+                paths += part.paths
+            self.fan = Fan(paths, angles, part.origin, part.length, part.kind, part.surface, full)
+            self._fan_key = key
+            self._show_progress(1.0, "isodistance curves …")
+            await checkpoint()
+        fan = self.fan
         distances = self.step.value * np.arange(1, self.count.value + 1)
         iso = polar_isodistance(fan, distances)
-        self.fan, self.isodistance = fan, iso
+        self.isodistance = iso
         self.start_mesh.points = self.source.evaluate(*uv0)[None]
-        self.paths_mesh.copy_from(_polylines([p.points for p in fan]), deep=True)
+        self.paths_mesh.copy_from(_polylines([p.points[p.s <= length * (1 + 1e-9)] for p in fan]), deep=True)
         curves = [piece.points for pieces in iso for piece in pieces if len(piece.points) > 1]
         self.iso_mesh.copy_from(_polylines(curves), deep=True)
         if self.paths_actor is None and self.paths_mesh.n_points:
             self.paths_actor = self.plotter.add_mesh(self.paths_mesh, color="#1f3b73", line_width=1.5)
         if self.iso_actor is None and self.iso_mesh.n_points:
             self.iso_actor = self.plotter.add_mesh(self.iso_mesh, color="#d62728", line_width=2.5)
-        self.domain_view.value = self._domain_png(fan, iso)
+        self.domain_view.value = self._domain_svg(fan, iso, length)
         reached = [d for d, pieces in zip(distances, iso) if pieces]
-        stopped = int(fan.hit_boundary.sum())
+        short = [p for p in fan if p.length < length * (1 - 1e-9)]
+        stopped = sum(1 for p in short if p.hit_boundary)
         note = f"{stopped} of {len(fan)} paths reach the boundary before length {length:g}" if stopped else ""
         if len(reached) < len(distances):
             note += ("; " if note else "") + f"no path reaches s_L ≥ {distances[len(reached)]:g}"
         self.refresh()
         if note:
-            self._say(note, "note")
             raise _Note(note)
 
-    def _domain_png(self, fan, iso):
-        import matplotlib
+    def _domain_svg(self, fan, iso, length):
+        """The paths and curves in the parameter domain as SVG (drawn by the browser, crisp at any width)."""
+        (u0, u1), (v0, v1) = self.source.domain
+        W_, H_, m = 640.0, 260.0, 34.0
 
-        matplotlib.use("Agg", force=False)
-        from matplotlib.figure import Figure
+        def xy(uv):  # the box spans x in [m, W - m], y in [m - 10, H - m - 10] (v upwards)
+            x = m + (uv[:, 0] - u0) / (u1 - u0) * (W_ - 2 * m)
+            y = H_ - m - 10 - (uv[:, 1] - v0) / (v1 - v0) * (H_ - 2 * m)
+            return " ".join(f"{a:.1f},{b:.1f}" for a, b in zip(x, y))
 
-        fig = Figure(figsize=(self.window_size[0] / 100, 3.2), dpi=100)
-        ax = fig.add_subplot()
+        parts = []
         for p in fan:
-            ax.plot(p.uv[:, 0], p.uv[:, 1], color="#1f3b73", lw=0.7)
+            keep = p.s <= length * (1 + 1e-9)
+            parts.append(f'<polyline points="{xy(p.uv[keep])}" fill="none" stroke="#1f3b73" stroke-width="0.8"/>')
         for pieces in iso:
             for piece in pieces:
-                ax.plot(piece.uv[:, 0], piece.uv[:, 1], color="#d62728", lw=1.4)
-        ax.plot(*fan.origin, "ko", ms=4)
-        (u0, u1), (v0, v1) = self.source.domain
-        ax.set_xlim(u0, u1)
-        ax.set_ylim(v0, v1)
-        ax.set_xlabel("u")
-        ax.set_ylabel("v")
-        ax.set_title("parameter domain", fontsize=9)
-        ax.set_aspect("auto")
-        fig.tight_layout()
-        buf = io.BytesIO()
-        fig.savefig(buf, format="png")
-        return buf.getvalue()
+                parts.append(f'<polyline points="{xy(piece.uv)}" fill="none" stroke="#d62728" stroke-width="1.6"/>')
+        ox, oy = xy(np.asarray(fan.origin, dtype=float)[None]).split(",")
+        box = (f'<rect x="{m}" y="{m - 10}" width="{W_ - 2 * m}" height="{H_ - 2 * m}" fill="none" '
+               'stroke="#57606a" stroke-width="1"/>')
+        labels = "".join(
+            f'<text x="{x}" y="{y}" font-size="11" fill="#1f2328" text-anchor="{a}">{html.escape(t)}</text>'
+            for x, y, a, t in ((m, H_ - m + 4, "middle", f"{u0:g}"), (W_ - m, H_ - m + 4, "middle", f"{u1:g}"),
+                               (W_ / 2, H_ - m + 4, "middle", "u"), (m - 4, H_ - m - 10, "end", f"{v0:g}"),
+                               (m - 4, m - 6, "end", f"{v1:g}"), (m - 12, H_ / 2 - 10, "end", "v"),
+                               (W_ / 2, 14, "middle", "parameter domain")))
+        clip = (f'<clipPath id="lab-domain-clip"><rect x="{m}" y="{m - 10}" width="{W_ - 2 * m}" '
+                f'height="{H_ - 2 * m}"/></clipPath>')
+        return (f'<svg viewBox="0 0 {W_:.0f} {H_:.0f}" style="width:100%;max-width:900px;height:auto;display:block;'
+                f'margin:0 auto" xmlns="http://www.w3.org/2000/svg"><defs>{clip}</defs>{box}'
+                f'<g clip-path="url(#lab-domain-clip)">{"".join(parts)}</g>'
+                f'<circle cx="{ox}" cy="{oy}" r="3" fill="black"/>{labels}</svg>')

@@ -1,0 +1,262 @@
+"""Benchmark: the explorers end to end in a real JupyterLab in headless Chromium, per rendering mode.
+
+Measured from the control change in the browser to the settled picture in
+the view (the last picture drawn after the change, once nothing more has been
+drawn for 1.5 s), on the practical's surface, median of ``--repeat`` runs:
+
+* colour change: the colour map dropdown, h∘f2 linear ↔ signed log, at depth 2;
+* depth → 5: the depth slider dragged from 2 to 5 and released; "first" drops
+  the explorer's cached mesh of depth 5 before each run, "cached" keeps it;
+* 40 geodesics: the geodesic explorer's start u0 dragged to a new place (40
+  paths of length 4.5 and 9 isodistance curves recomputed);
+* after a restart: the kernel restarted, Run All, until both views show a
+  picture again (printed under the table, with the first Run All);
+* camera drag: a 2 s mouse drag over the view at the explorer's default
+  depth 2 (784 patches), and again at depth 5 (50 176 patches); pictures
+  per second while dragging, and the lag from releasing the mouse to the
+  last picture.
+
+A "picture" is counted in the page: in a view that renders in the browser
+(vtk.js) an animation frame in which WebGL drew something, in a view that
+shows streamed images the arrival of an image.  The rendering modes:
+
+* ``client``: PyVista's client backend, vtk.js renders in the browser (the default);
+* ``server``: trame's remote view, the kernel renders offscreen and streams images;
+* ``trame``: trame's hybrid view, remote by default (PyVista's ``trame`` backend, the lab's old default).
+
+The server-side table (``benchmarks/widgets.py``: computation + scene update +
+offscreen render, without the browser) is printed beside it.  Uses Debian's
+chromium at /usr/bin/chromium through Playwright (never ``playwright install``).
+
+Usage: python benchmarks/browser.py [--repeat 10] [--backends client,server,trame] [--no-server-side]
+"""
+
+import argparse
+import math
+import os
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from tests.browser_support import (  # noqa: E402
+    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, jupyterlab, kernel_value, now_ms, restart_kernel, settle_time,
+    view_frame, wait_quiet, write_notebook,
+)
+
+TARGETS = {"colour change": ("≤", 250.0), "depth → 5 (first)": ("≤", 800.0), "depth → 5 (cached)": ("≤", 250.0),
+           "40 geodesics": ("≤", 1000.0), "camera drag": ("≥", 15.0)}
+UNITS = {"camera drag": "frames/s", "camera drag, depth 5": "frames/s"}
+
+
+def _select(explorer, label):
+    """Choose ``label`` in the explorer's primary dropdown from page script; returns the browser time of the change."""
+    return explorer.locator(".lab-primary-control select").evaluate(
+        """(sel, label) => {
+            const i = Array.from(sel.options).findIndex(o => o.value === label);
+            if (i < 0) throw new Error(`no option ${label}`);
+            sel.selectedIndex = i;
+            const t0 = performance.timeOrigin + performance.now();
+            sel.dispatchEvent(new Event('change', {bubbles: true}));
+            return t0;
+        }""", label)
+
+
+def _drag_slider(page, explorer, selector, fraction):
+    """Drag a slider's handle to ``fraction`` of its track and release; returns the browser time of the release."""
+    track = explorer.locator(f"{selector} .noUi-target").first
+    handle = track.locator(".noUi-handle").first
+    handle.scroll_into_view_if_needed()
+    hb, tb = handle.bounding_box(), track.bounding_box()
+    page.mouse.move(hb["x"] + hb["width"] / 2, hb["y"] + hb["height"] / 2)
+    page.mouse.down()
+    x = tb["x"] + fraction * tb["width"]
+    page.mouse.move(x, hb["y"] + hb["height"] / 2, steps=5)
+    t0 = now_ms(page)
+    page.mouse.up()
+    return t0
+
+
+def _camera_drag(page, explorer, frame, seconds=2.0):
+    """Drag across the view for ``seconds``; returns (pictures per second while dragging, lag after release in ms)."""
+    iframe = explorer.locator("iframe.pyvista")
+    iframe.scroll_into_view_if_needed()
+    box = iframe.bounding_box()
+    viewport = page.viewport_size
+    top, bottom = max(box["y"], 0), min(box["y"] + box["height"], viewport["height"])
+    cx, cy = box["x"] + box["width"] * 0.5, (top + bottom) / 2
+    wait_quiet(frame)
+    page.mouse.move(cx, cy)
+    t_down = now_ms(page)
+    page.mouse.down()
+    start = time.perf_counter()
+    k = 0
+    while time.perf_counter() - start < seconds:
+        k += 1
+        page.mouse.move(cx + 120 * math.sin(k / 12), cy + 40 * math.cos(k / 17))
+        time.sleep(1 / 120)
+    t_up = now_ms(page)
+    page.mouse.up()
+    lag = settle_time(frame, t_up, quiet=1.5, timeout=30)
+    times = [t for t in frame.evaluate("() => window.__labFrames") if t_down < t <= t_up]
+    fps = len(times) / ((t_up - t_down) / 1000)
+    return fps, (lag if lag is not None else 0.0)
+
+
+def measure(browser, backend, repeat, workdir):
+    """One JupyterLab session, one notebook with a curvature and a geodesic explorer in ``backend``."""
+    name = f"bench_{backend}.ipynb"
+    write_notebook(workdir / name, [
+        "import lab\nfrom lab import surfaces",
+        f"e = lab.CurvatureExplorer(surfaces.practical(), depth=2, backend={backend!r})\ne",
+        f"g = lab.GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=40, step=0.5, count=9, "
+        f"backend={backend!r})\ng",
+    ])
+    rows = {}
+    with jupyterlab(workdir) as (url, token):
+        context = browser.new_context(viewport={"width": 1400, "height": 900})
+        context.add_init_script(FRAME_COUNTER_JS)
+        page = context.new_page()
+        nb = Notebook(page, url, token, name, workdir / "shots")
+        start = time.time()
+        nb.run_all()
+        explorers = nb.explorers()
+        curv, geo = explorers.nth(0), explorers.nth(1)
+        for ex in (curv, geo):
+            nb.wait_for_picture(ex, timeout=120)
+        first_view = time.time() - start
+        fc, fg = view_frame(curv), view_frame(geo)
+        curv.scroll_into_view_if_needed()
+
+        def timed(label, action, frame, check=None):
+            values = []
+            for k in range(repeat):
+                wait_quiet(frame)
+                t0 = action(k)
+                lat = settle_time(frame, t0, quiet=1.5, timeout=60)
+                values.append(float("nan") if lat is None else lat)
+            rows[label] = values
+
+        drags = [_camera_drag(page, curv, fc) for _ in range(max(3, repeat // 3))]
+        rows["camera drag"] = [d[0] for d in drags]
+        rows["drag lag"] = [d[1] for d in drags]
+        maps = ["signed log", "h∘f2 linear (min/max)"]
+        timed("colour change", lambda k: _select(curv, maps[k % 2]), fc)
+        kernel_value(nb, "e.depth.value")
+
+        def depth_first(k):
+            kernel_value(nb, "e._meshes.pop(5, None) is not None, e.depth.value")
+            if kernel_value(nb, "e.depth.value") != "2":
+                _drag_slider(page, curv, ".lab-depth", 2 / 6)
+                wait_quiet(fc)
+            return _drag_slider(page, curv, ".lab-depth", 5 / 6)
+
+        def depth_cached(k):
+            if kernel_value(nb, "e.depth.value") != "2":
+                _drag_slider(page, curv, ".lab-depth", 2 / 6)
+                wait_quiet(fc)
+            return _drag_slider(page, curv, ".lab-depth", 5 / 6)
+
+        timed("depth → 5 (first)", depth_first, fc)
+        timed("depth → 5 (cached)", depth_cached, fc)
+        geo.scroll_into_view_if_needed()
+        spots = [0.62, 0.72]
+        timed("40 geodesics", lambda k: _drag_slider(page, geo, ".lab-primary-control", spots[k % 2]), fg)
+        paths = kernel_value(nb, "len(g.fan), g.status.value")
+        curv.scroll_into_view_if_needed()
+        if kernel_value(nb, "e.depth.value") != "5":
+            _drag_slider(page, curv, ".lab-depth", 5 / 6)
+        wait_quiet(fc, 2)
+        drags = [_camera_drag(page, curv, fc) for _ in range(max(3, repeat // 3))]
+        rows["camera drag, depth 5"] = [d[0] for d in drags]
+        rows["drag lag, depth 5"] = [d[1] for d in drags]
+        counts = kernel_value(nb, "dict(e.counts), dict(g.counts)")
+        restart_kernel(nb)
+        start = time.time()
+        nb.run_all()
+        for k in range(nb.explorers().count()):
+            nb.wait_for_picture(nb.explorers().nth(k), timeout=120)
+        back = time.time() - start
+        context.close()
+    return rows, {"first view (s)": first_view, "geodesic fan": paths, "actions run": counts,
+                  "after a restart (s)": back}
+
+
+def _fmt(label, values):
+    if not values:
+        return "–"
+    med = statistics.median(values)
+    return f"{med:.1f}" if label.startswith("camera drag") else f"{med:.0f}"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=10)
+    parser.add_argument("--backends", default="client,server,trame")
+    parser.add_argument("--no-server-side", action="store_true", help="skip the server-side table")
+    args = parser.parse_args()
+    from playwright.sync_api import sync_playwright
+
+    backends = [b.strip() for b in args.backends.split(",") if b.strip()]
+    load_before = os.getloadavg()
+    results, extra = {}, {}
+    workdir = Path(tempfile.mkdtemp(prefix="lab-browser-bench-"))
+    try:
+        with sync_playwright() as p:
+            browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+            for backend in backends:
+                sub = workdir / backend
+                sub.mkdir()
+                print(f"measuring {backend} …", file=sys.stderr, flush=True)
+                results[backend], extra[backend] = measure(browser, backend, args.repeat, sub)
+            browser.close()
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+    load_after = os.getloadavg()
+
+    server = {}
+    if not args.no_server_side:
+        sys.path.insert(0, str(ROOT / "benchmarks"))
+        import widgets as server_side
+
+        for name, ours, base, what in server_side.measure(max(3, args.repeat // 2)):
+            server[name] = (ours, base, what)
+
+    labels = list(TARGETS) + ["drag lag", "camera drag, depth 5", "drag lag, depth 5"]
+    head = f"{'in the browser, median of ' + str(args.repeat):34s}" + "".join(f"{b:>10s}" for b in backends)
+    head += f"{'target':>12s}"
+    print(head)
+    print("-" * len(head))
+    for label in labels:
+        unit = UNITS.get(label, "ms")
+        line = f"{label + ' (' + unit + ')':34s}" + "".join(f"{_fmt(label, results[b].get(label, [])):>10s}"
+                                                            for b in backends)
+        if label in TARGETS:
+            op, value = TARGETS[label]
+            line += f"{op + ' ' + format(value, 'g'):>12s}"
+        print(line)
+    for b in backends:
+        print(f"  {b}: both views {extra[b]['first view (s)']:.1f} s after Run All, "
+              f"{extra[b]['after a restart (s)']:.1f} s after a kernel restart and Run All; "
+              f"fan {extra[b]['geodesic fan']}; actions run {extra[b]['actions run']}")
+    print(f"load average before {load_before[0]:.2f} / after {load_after[0]:.2f} (1 min), "
+          f"{os.cpu_count()} CPUs; {time.strftime('%Y-%m-%d %H:%M')}")
+    if server:
+        print()
+        print(f"{'server side (benchmarks/widgets.py)':34s}{'median':>10s}{'best':>10s}   baseline")
+        print("-" * 72)
+        for name, (ours, base, what) in server.items():
+            print(f"{name:34s}{1000 * statistics.median(ours):8.0f}ms{1000 * min(ours):8.0f}ms   "
+                  f"{1000 * statistics.median(base):.0f} ms {what}")
+    ok = all((statistics.median(results[backends[0]][k]) <= v if op == "≤" else statistics.median(results[backends[0]][k]) >= v)
+             for k, (op, v) in TARGETS.items() if results[backends[0]].get(k))
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

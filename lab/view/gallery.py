@@ -1,0 +1,90 @@
+"""The lab's picture gallery: ``python -m lab.view.gallery`` (or ``make docs``) redraws every picture in ``docs/``.
+
+Each picture is made by running the command line (``python -m lab.cli
+render``, in a subprocess: the CLI sits above this layer), with the options
+written next to it in ``docs/gallery/README.md``, so the README, the gallery
+and a student's own call give the same picture.  Rendering is
+deterministic (fixed sizes, the automatic camera is a fixed rule), so
+re-running the command after a change of the library redraws exactly what
+changed.
+"""
+
+import argparse
+import subprocess
+import sys
+from pathlib import Path
+
+__all__ = ["PICTURES", "main"]
+
+#: (file name, ``curvature-lab render`` options, caption); README pictures live in docs/, the others in docs/gallery/.
+PICTURES = [
+    ("practical_gaussian_linear.png",
+     "--surface practical --curvature gaussian --color-map linear --depth 1 --edges",
+     "The practical's setting: its B-spline surface as 7 × 7 Bézier patches refined once (patch borders drawn), "
+     "Gaussian curvature with the linear map h∘f2. The bump's top (K ≈ 37) takes the red end of the range, so "
+     "everything else, K from −1.2 to about 1, is blue."),
+    ("practical_gaussian_signed_log.png",
+     "--surface practical --curvature gaussian --color-map signed-log --depth 3",
+     "The same surface refined three times, with the signed-logarithmic map: the elliptic top of the bump (red to "
+     "yellow), hyperbolic zones on both sides of its foot (cyan, K ≈ −1), and |K| below 0.1 everywhere else "
+     "(green, yellow-green where slightly positive)."),
+    ("gallery/practical_gaussian_classification.png",
+     "--surface practical --curvature gaussian --color-map classification --depth 3",
+     "Classification by the sign of K (h∘f3): elliptic (red) on the bump's top and in two gently convex regions, "
+     "one behind the bump and one in front of it; hyperbolic (blue) everywhere else; the parabolic lines lie on "
+     "the red–blue borders."),
+    ("gallery/practical_mean_symmetric.png",
+     "--surface practical --curvature mean --color-map symmetric --depth 3",
+     "Mean curvature H with the zero-centred map (green at H = 0): only the bump's top stands out. The sign of H, "
+     "and so the end of the scale it takes, follows the orientation of the normal N = b_u × b_v / |b_u × b_v|."),
+    ("gallery/torus_gaussian_classification.png",
+     "--surface torus --curvature gaussian --color-map classification --depth 3",
+     "Torus: elliptic outside (red), hyperbolic inside (blue), parabolic circles on top and bottom (green)."),
+    ("gallery/torus_gaussian_dill.png",
+     "--surface torus --curvature gaussian --color-map dill --vmin -1 --vmax 0.3333 --depth 3",
+     "Torus with Dill's five bands over −1 … 1/3 (his figure 7): the bands follow the parallels."),
+    ("gallery/hood_mean_dill.png",
+     "--surface hood --curvature mean --color-map dill --vmin -1.5 --vmax 0.5 --depth 3",
+     "Car hood (Dill's figure 9), mean curvature in five bands: the crease is the narrow band of strong curvature."),
+    ("gallery/catenoid_gaussian_dill.png",
+     "--surface catenoid --curvature gaussian --color-map dill --vmin -1 --vmax 0 --depth 2",
+     "Catenoid (Dill's figure 8), seen from above into its waist: K from −1 at the waist (blue) to nearly 0 on the "
+     "flaring rims (red); H = 0 everywhere."),
+    ("gallery/monkey-saddle_gaussian_symmetric.png",
+     "--surface monkey-saddle --curvature gaussian --color-map symmetric --depth 3",
+     "Monkey saddle: K < 0 everywhere except at the flat point in the middle (green), most negative on a ring "
+     "around it."),
+]
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m lab.view.gallery", description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default="docs", help="the docs folder (default: docs)")
+    parser.add_argument("--size", default="800x600", help="picture size (default: 800x600)")
+    parser.add_argument("--only", help="only the pictures whose file name contains this text")
+    args = parser.parse_args(argv)
+    out = Path(args.out)
+    (out / "gallery").mkdir(parents=True, exist_ok=True)
+    lines = ["# Gallery", "", "Made by `make docs` (`python -m lab.view.gallery`); each picture is one "
+             "`curvature-lab render` call, written under it.", ""]
+    for name, options, caption in PICTURES:
+        if args.only and args.only not in name:
+            continue
+        path = out / name
+        command = [sys.executable, "-m", "lab.cli", "render", *options.split(), "--window-size", args.size, "--quiet",
+                   "-o", str(path)]
+        result = subprocess.run(command, capture_output=True, text=True)
+        if result.returncode:
+            print(result.stderr, file=sys.stderr)
+            return result.returncode
+        print(f"wrote {path}", file=sys.stderr)
+        rel = name[len("gallery/"):] if name.startswith("gallery/") else f"../{name}"
+        lines += [f"![{caption}]({rel})", "", caption, "",
+                  f"    curvature-lab render {options} --window-size {args.size} -o docs/{name}", ""]
+    if not args.only:
+        (out / "gallery" / "README.md").write_text("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,323 @@
+"""Colour bars and class legends in curvature units, for every colour map of the lab.
+
+One :class:`Legend` describes what a colour means: the colours along the bar
+(``stops``), tick positions with labels in curvature units (``ticks``), or, for
+the classification map, a list of classes.  The same description is drawn as
+HTML beside a live explorer (:meth:`Legend.html`) and with matplotlib into
+the static pictures (``lab.view.style``), so both always say the same.
+
+The positions are fractions of the bar, 0 (left/bottom) … 1 (right/top).  For
+maps that are linear in the value (h∘f2, h∘f1, symmetric, percentile, Dill,
+the perceptual maps) a value x sits at ``(x - lo) / (hi - lo)``; for the
+signed-log map at ``signed_log(x)`` (nonlinear: its ticks are placed where
+their values fall, so the labels stay in curvature units).
+"""
+
+import html as _html
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..geometry import colormaps
+
+__all__ = ["Legend", "legend", "measure_title", "nice_ticks", "format_values", "H_STOPS", "map_range"]
+
+#: The practical's ramp h is piecewise linear with these knots: five stops draw it exactly.
+H_STOPS = tuple((float(t), tuple(float(c) for c in colormaps.h(np.array(t)))) for t in (0.0, 0.25, 0.5, 0.75, 1.0))
+
+#: measure -> (name, symbol, power of 1/length in its unit)
+MEASURES = {
+    "gaussian": ("Gaussian curvature", "K", 2),
+    "classification": ("Gaussian curvature", "K", 2),
+    "mean": ("mean curvature", "H", 1),
+    "k1": ("max. principal curvature", "κ1", 1),
+    "k2": ("min. principal curvature", "κ2", 1),
+    "strain-energy": ("strain energy", "κ1² + κ2²", 2),
+}
+
+PERCEPTUAL = ("viridis", "cividis", "coolwarm", "RdBu_r")
+
+
+def measure_title(measure, *, long=True):
+    """The bar's title with units, e.g. ``"Gaussian curvature K  [1/length²]"``."""
+    name, symbol, power = MEASURES[measure]
+    unit = "1/length²" if power == 2 else "1/length"
+    return f"{name} {symbol}  [{unit}]" if long else f"{symbol} [{unit}]"
+
+
+def _minus(text):
+    return text.replace("-", "−")
+
+
+def nice_ticks(lo, hi, n=5):
+    """About ``n`` round values inside ``[lo, hi]`` (steps 1, 2, 2.5 or 5 times a power of ten)."""
+    lo, hi = float(lo), float(hi)
+    if not (math.isfinite(lo) and math.isfinite(hi)) or hi <= lo:
+        return np.array([lo])
+    raw = (hi - lo) / max(n, 1)
+    power = 10.0 ** math.floor(math.log10(raw))
+    step = next((m * power for m in (1, 2, 2.5, 5, 10) if m * power >= raw * 0.999), 10 * power)
+    first = math.ceil(lo / step - 1e-9) * step
+    ticks = first + step * np.arange(int(math.floor((hi - first) / step + 1e-9)) + 1)
+    ticks[np.abs(ticks) < step * 1e-9] = 0.0
+    return ticks
+
+
+def _sci(x, digits):
+    mantissa, exponent = f"{x:.{digits}e}".split("e")
+    if "." in mantissa:
+        mantissa = mantissa.rstrip("0").rstrip(".")
+    return f"{mantissa}e{int(exponent)}"
+
+
+def format_values(values, *, spacing=None):
+    """Short labels for ``values``: the fewest digits that keep neighbours apart.
+
+    ``spacing`` (default: the smallest gap between the values) sets the
+    precision a label must keep: within 2% of it.  Plain decimals for
+    magnitudes from 0.001 to 10⁶, else scientific (``2.5e-4``).  Exact zeros (and
+    values far below the spacing) read "0", never "-0.00"; the minus is a real minus sign.
+    """
+    v = np.asarray(values, dtype=float).ravel()
+    if v.size == 0:
+        return []
+    finite = v[np.isfinite(v)]
+    if spacing is None:
+        gaps = np.diff(np.sort(finite))
+        gaps = gaps[gaps > 0]
+        spacing = float(gaps.min()) if gaps.size else max(float(np.max(np.abs(finite))) if finite.size else 1.0, 1e-300)
+    spacing = max(float(spacing), 1e-300)
+    big = float(np.max(np.abs(finite))) if finite.size else 0.0
+    scientific = big >= 1e6 or 0 < big < 1e-3
+    for digits in range(0, 10):
+        labels = []
+        for x in v:
+            if not math.isfinite(x):
+                labels.append("nan")
+            elif abs(x) < spacing * 1e-6:
+                labels.append("0")
+            else:
+                labels.append(_sci(x, digits) if scientific else f"{x:.{digits}f}")
+        back = np.array([float(s) for s in labels])
+        ok = np.all(np.abs(back - v)[np.isfinite(v)] <= 0.02 * spacing + 1e-300)
+        if ok and len(set(labels)) == len(labels):
+            return [_minus(s) for s in labels]
+    return [_minus(f"{x:.8g}") for x in v]
+
+
+@dataclass(frozen=True)
+class Legend:
+    """What the colours of a picture mean.
+
+    Attributes
+    ----------
+    title : str
+        Measure and unit, e.g. ``"Gaussian curvature K  [1/length²]"``.
+    stops : tuple of (float, (r, g, b))
+        Colours along the bar (positions 0 … 1, RGB in 0 … 1); two stops at one
+        position make a hard edge (Dill's bands).
+    ticks : tuple of (float, str)
+        Tick positions on the bar and their labels in curvature units.
+    classes : tuple of (str, (r, g, b))
+        For the classification map: the classes instead of a bar.
+    clim : (float, float) or None
+        The range of values the colours span (what the explorers' readouts show).
+    note : str
+        A remark printed under the bar (e.g. how the map treats values outside).
+    """
+
+    title: str
+    stops: tuple = ()
+    ticks: tuple = ()
+    classes: tuple = ()
+    clim: tuple = None
+    note: str = ""
+
+    @property
+    def is_bar(self):
+        return not self.classes
+
+    def colors(self, n=256):
+        """``(n, 3)`` colours sampled evenly along the bar (for drawing it)."""
+        t = (np.arange(n) + 0.5) / n
+        pos = np.array([p for p, _ in self.stops])
+        rgb = np.array([c for _, c in self.stops])
+        out = np.empty((n, 3))
+        for k in range(3):
+            # hard edges: two stops at one position; np.interp takes the right one at the edge
+            out[:, k] = np.interp(t, pos, rgb[:, k])
+        return out
+
+    def html(self):
+        """The legend as HTML (a horizontal bar with ticks, or the class list); fits any width."""
+        title = _html.escape(self.title)
+        if self.classes:
+            items = "".join(
+                f'<span class="lab-legend-item" style="display:inline-flex;align-items:center;margin:0 1em 0 0;'
+                f'white-space:nowrap"><span style="display:inline-block;width:1em;height:1em;margin-right:.35em;'
+                f'border:1px solid #555;background:{_css(c)}"></span>{_html.escape(label)}</span>'
+                for label, c in self.classes)
+            return (f'<div class="lab-legend" style="font-size:12px;line-height:1.6;padding:2px 0">'
+                    f'<span style="font-weight:600;margin-right:1em">{title}</span>'
+                    f'<span style="display:inline-flex;flex-wrap:wrap">{items}</span></div>')
+        gradient = ", ".join(f"{_css(c)} {100 * p:.3f}%" for p, c in self.stops)
+        marks = "".join(
+            f'<span style="position:absolute;left:{100 * p:.3f}%;top:0;width:1px;height:5px;background:#333"></span>'
+            for p, _ in self.ticks)
+        labels = "".join(
+            f'<span class="lab-colorbar-label" style="position:absolute;left:{100 * p:.3f}%;top:5px;'
+            f'transform:translateX(-50%);white-space:nowrap">{_html.escape(label)}</span>'
+            for p, label in self.ticks)
+        note = (f'<div style="color:#57606a;font-size:11px;text-align:center">{_html.escape(self.note)}</div>'
+                if self.note else "")
+        return (
+            '<div class="lab-colorbar" style="font-size:12px;padding:2px 3.2em 0 3.2em;box-sizing:border-box;'
+            'max-width:46em;margin:0 auto">'
+            f'<div class="lab-colorbar-title" style="text-align:center;font-weight:600;margin-bottom:2px">{title}</div>'
+            f'<div class="lab-colorbar-bar" style="height:14px;border:1px solid #777;'
+            f'background:linear-gradient(to right, {gradient})"></div>'
+            f'<div style="position:relative;height:22px">{marks}{labels}</div>{note}</div>'
+        )
+
+
+def _css(rgb):
+    r, g, b = (int(round(255 * float(x))) for x in rgb)
+    return f"rgb({r},{g},{b})"
+
+
+def _linear_ticks(lo, hi):
+    if not hi - lo > 1e-6 * max(abs(lo), abs(hi)):  # one value (up to rounding): one label, in the middle
+        mid = 0.5 * (lo + hi)
+        return ((0.5, format_values([mid], spacing=max(abs(mid), 1e-300) * 1e-3)[0]),)
+    ticks = nice_ticks(lo, hi)
+    if ticks.size < 2:  # a range narrower than one round step: label the ends
+        ticks = np.array([lo, hi])
+    labels = format_values(ticks, spacing=float(np.min(np.diff(ticks))) if ticks.size > 1 else None)
+    return tuple(((float(t) - lo) / (hi - lo), s) for t, s in zip(ticks, labels))
+
+
+def _signed_log_ticks(M, s):
+    """Ticks of the signed-log bar: 0, ±M and round values between, where the map puts them."""
+    def pos(x):
+        return 0.5 + 0.5 * math.copysign(math.log1p(abs(x) / s) / math.log1p(M / s), x)
+
+    ends = format_values([M], spacing=M * 1e-2)[0]
+    chosen = [(0.0, 0.5, "0"), (-M, 0.0, "−" + ends), (M, 1.0, ends)]
+    top = math.floor(math.log10(M))
+    candidates = []
+    for k in range(top, top - 6, -1):
+        for m in (1, 5, 2):
+            x = m * 10.0**k
+            if x < M * 0.999:
+                candidates.append(x)
+    for x in candidates:
+        for value in (x, -x):
+            p = pos(value)
+            if all(abs(p - q) >= 0.085 for _, q, _ in chosen):
+                chosen.append((value, p, format_values([value], spacing=abs(value) * 0.1)[0]))
+    chosen.sort(key=lambda c: c[1])
+    return tuple((p, label) for _, p, label in chosen)
+
+
+def map_range(color_map, values, *, clim=None, options=None):
+    """The range of values a colour map spans for these values: what the colours mean from … to.
+
+    ``clim`` overrides the data range of the maps that take one (linear, Dill,
+    the perceptual maps); ``options`` are the map's keyword options (``vmin``,
+    ``vmax``, ``scale``, ``lower``, ``upper``) as :func:`lab.colormaps.apply` takes them.
+    Returns ``(lo, hi)``, or None for the classification map.
+    """
+    options = dict(options or {})
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    lo, hi = (float(v.min()), float(v.max())) if v.size else (0.0, 1.0)
+    m = max(abs(lo), abs(hi))
+    if color_map == "classification":
+        return None
+    if color_map == "cut":
+        return (0.0, 1.0)
+    if color_map == "dill":
+        if clim is not None:
+            return tuple(float(x) for x in clim)
+        return (float(options.get("vmin", colormaps.DILL_RANGE[0])), float(options.get("vmax", colormaps.DILL_RANGE[1])))
+    if color_map == "symmetric":
+        m = float(options.get("vmax", m))
+        return (-m, m)
+    if color_map == "percentile":
+        if not v.size:
+            return (0.0, 1.0)
+        p = np.percentile(v, [options.get("lower", 2.0), options.get("upper", 98.0)])
+        return (float(p[0]), float(p[1]))
+    if color_map == "signed-log":
+        return (-m, m)
+    if clim is not None:
+        return tuple(float(x) for x in clim)
+    return (float(options.get("vmin", lo)), float(options.get("vmax", hi)))
+
+
+def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None):
+    """The legend of a picture coloured by ``measure`` under ``color_map``.
+
+    Parameters
+    ----------
+    measure : str
+        ``gaussian``, ``mean``, ``k1``, ``k2``, ``strain-energy`` or ``classification``.
+    color_map : str
+        A name of :data:`lab.colormaps.COLOR_MAPS` or a perceptual map
+        (``viridis``, ``cividis``, ``coolwarm``, ``RdBu_r``).
+    values : array_like, optional
+        The values shown (for ranges the map takes from the data).
+    clim : (float, float), optional
+        The range actually used, where the map takes one (linear, Dill, perceptual).
+    options : dict, optional
+        The map's keyword options, as given to the colour map.
+    tol : float, optional
+        The zero tolerance of the classification (shown in its legend).
+    """
+    options = dict(options or {})
+    values = np.zeros(0) if values is None else np.asarray(values, dtype=float)
+    _, symbol, _ = MEASURES[measure]
+    title = measure_title(measure)
+    if measure == "classification" or color_map == "classification":
+        red, green, blue = (tuple(float(x) for x in colormaps.h(np.array(t))) for t in (1.0, 0.5, 0.0))
+        zero = "≈ 0" if tol else "= 0"
+        if symbol == "K":
+            classes = (("K > 0 elliptic", red), (f"K {zero} parabolic, flat", green), ("K < 0 hyperbolic", blue))
+        else:
+            classes = ((f"{symbol} > 0", red), (f"{symbol} {zero}", green), (f"{symbol} < 0", blue))
+        note = f"|{symbol}| ≤ {_minus(_sci(tol, 1))} counts as 0" if tol else ""
+        return Legend(title=title, classes=classes, note=note)
+    lo, hi = map_range(color_map, values, clim=clim, options=options)
+    if color_map == "dill":
+        edges = lo + (hi - lo) * np.arange(6) / 5
+        stops = []
+        for k, c in enumerate(colormaps.DILL_COLORS):
+            stops += [(k / 5, tuple(float(x) for x in c)), ((k + 1) / 5, tuple(float(x) for x in c))]
+        labels = format_values(edges, spacing=(hi - lo) / 5)
+        return Legend(title=title, stops=tuple(stops), ticks=tuple(zip((np.arange(6) / 5).tolist(), labels)),
+                      clim=(lo, hi), note="five bands (Dill); values outside take the nearest band")
+    if color_map == "signed-log":
+        a = np.abs(values[np.isfinite(values)])
+        M = hi
+        if not M > 0:
+            return Legend(title=title, stops=H_STOPS, ticks=((0.5, "0"),), clim=(0.0, 0.0))
+        s = float(options.get("scale") or (np.median(a) if a.size else 0.0))
+        if s <= 0:
+            s = M * 1e-3
+        return Legend(title=title, stops=H_STOPS, ticks=_signed_log_ticks(M, s), clim=(-M, M),
+                      note=f"signed logarithmic scale, linear below {format_values([s], spacing=s * 0.1)[0]}")
+    if color_map in PERCEPTUAL:
+        from matplotlib import colormaps as mpl_colormaps
+
+        cmap = mpl_colormaps[color_map]
+        t = np.linspace(0, 1, 17)
+        stops = tuple((float(x), tuple(float(c) for c in cmap(x)[:3])) for x in t)
+    else:
+        stops = H_STOPS
+    note = {"cut": "values below 0 and above 1 take the end colours (f1)",
+            "percentile": "2nd to 98th percentile; values beyond take the end colours"}.get(color_map, "")
+    if hi > lo and not hi - lo > 1e-6 * max(abs(lo), abs(hi)):
+        note = (f"all values {format_values([0.5 * (lo + hi)], spacing=abs(hi) * 1e-3)[0]} up to rounding "
+                f"({_minus(_sci(hi - lo, 1))})")
+    return Legend(title=title, stops=stops, ticks=_linear_ticks(lo, hi), clim=(lo, hi), note=note)
