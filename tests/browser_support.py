@@ -295,6 +295,21 @@ def wait_quiet(frame, quiet=1.0, timeout=60.0):
     settle_time(frame, now_ms(frame) - 10 * 60 * 1000, quiet=quiet, timeout=timeout)
 
 
+def click_when_still(locator, timeout=30.0):
+    """Click ``locator`` once it has stopped moving (JupyterLab scrolls the notebook after a cell runs; a click
+    during that scroll lands where the element was)."""
+    locator.scroll_into_view_if_needed()
+    deadline = time.time() + timeout
+    box = None
+    while time.time() < deadline:
+        time.sleep(0.25)
+        new = locator.bounding_box()
+        if new is not None and new == box:
+            break
+        box = new
+    locator.click()
+
+
 def kernel_value(nb, expression, timeout=180):
     """Evaluate ``expression`` in the notebook's kernel (through a new cell) and return the printed text."""
     marker = f"value-{secrets.token_hex(4)}"

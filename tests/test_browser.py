@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 
 from .browser_support import (
-    CHROMIUM, CHROMIUM_ARGS, Notebook, coverage, jupyterlab, kernel_value, layout_of, process_cpu_seconds,
+    CHROMIUM, CHROMIUM_ARGS, Notebook, click_when_still, coverage, jupyterlab, kernel_value, layout_of, process_cpu_seconds,
     process_rss_mb, rerun_cell, restart_kernel, write_notebook,
 )
 
@@ -216,12 +216,12 @@ def test_readouts_equal_the_range_the_colours_use(browser, lab_server, tmp_path)
     ex = nb.explorers().first
     used, _ = _mapper_range(nb, "auto")
     _assert_same(_readouts(ex), used, "auto")
-    ex.locator(".lab-range-mode button", has_text="± max").click()
+    click_when_still(ex.locator(".lab-range-mode button", has_text="± max"))
     used, text = _mapper_range(nb, "symmetric")
     assert used[0] == pytest.approx(-used[1]), text
     nb.page.wait_for_timeout(1500)
     _assert_same(_readouts(ex), used, "± max")
-    ex.locator(".lab-range-mode button", has_text="manual").click()
+    click_when_still(ex.locator(".lab-range-mode button", has_text="manual"))
     manual, text = _mapper_range(nb, "manual")
     assert manual == pytest.approx(used)  # manual starts at the range used before, not min = max
     nb.page.wait_for_timeout(1500)
