@@ -137,8 +137,11 @@ def test_kernel_survives_with_default_comm_settings(browser, tmp_path):
 EXPLORERS = [
     "import os, lab\nfrom lab import surfaces\nprint('pid', os.getpid())",
     "e = lab.CurvatureExplorer(surfaces.practical(), depth=2)\ne",
-    "g = lab.GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=16, step=0.5, count=6)\ng",
+    "g = lab.GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=16, step=0.5, n_curves=6)\ng",
 ]
+#: the colour maps the layout test visits, by their labels in each language (German labels are longer)
+LAYOUT_MAPS = {"en": ("signed log", "Dill's five bands", "h∘f3 classification", "h∘f2 linear (min/max)"),
+               "de": ("vorzeichenbehaftet log.", "Dills fünf Bänder", "h∘f3 Klassifikation", "h∘f2 linear (min/max)")}
 
 
 @pytest.fixture(scope="module")
@@ -254,11 +257,16 @@ def _check_layout(nb, tag):
     assert not problems, f"{tag}: " + "; ".join(problems) + f"; screenshot {nb.shot(tag)}"
 
 
-def test_nothing_clipped_and_the_view_fills_the_output(browser, lab_server, tmp_path):
-    """At 1400 x 900 and in a split view: every label readable, colour bar labels inside, view ≥ 90% of the output."""
-    nb = _open(browser, lab_server, tmp_path, "layout.ipynb")
+@pytest.mark.parametrize("lang", ["en", "de"])
+def test_nothing_clipped_and_the_view_fills_the_output(browser, lab_server, tmp_path, lang):
+    """At 1400 x 900 and in a split view: every label readable, colour bar labels inside, view ≥ 90% of the output
+    (in English and in German, whose labels are longer)."""
+    cells = [EXPLORERS[0] + f"\nlab.set_language({lang!r})"] + EXPLORERS[1:]
+    nb = _open(browser, lab_server, tmp_path, f"layout-{lang}.ipynb", cells)
     ex = nb.explorers().first
-    for label in ("signed log", "Dill's five bands", "h∘f3 classification", "h∘f2 linear (min/max)"):
+    if lang == "de":
+        assert "Farbabbildung" in ex.inner_text(), f"the explorer is not in German; see {nb.shot('not-german')}"
+    for label in LAYOUT_MAPS[lang]:
         ex.locator(".lab-primary-control select").select_option(value=label)
         _wait_value(nb, "e.color_map.value, e.busy", lambda t: "False" in t)
         nb.page.wait_for_timeout(1500)

@@ -85,3 +85,33 @@ def test_kernel_started_with_lab_lang_speaks_german():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={"LAB_LANG": "de", "PATH": "/usr/bin:/bin"}).stdout
     assert "Gaußsche Krümmung" in out
+
+
+def test_explorer_labels_speak_german():
+    """Controls, options, status texts and the colour bar of the explorers follow the language."""
+    from lab import surfaces
+    from lab.view.explorers import CurvatureExplorer, GeodesicExplorer
+
+    with i18n.using("de"):
+        e = CurvatureExplorer(surfaces.practical(), depth=1, live=False)
+        g = GeodesicExplorer(surfaces.plane(4.0), start=(0.5, 0.5), n_angles=6, step=0.5, n_curves=2, live=False)
+        labels = dict(e.measure.options)
+        legend = e.legend()
+        info = e.info.value
+        title = e.picture_title()
+        fan_legend = g.legend_html()
+    assert (e.measure.description, e.color_map.description, e.depth.description) == ("Größe", "Farbabbildung",
+                                                                                       "Unterteilung")
+    assert labels["K  Gaußsche"] == "gaussian" and labels["H  mittlere"] == "mean", labels
+    assert [label for label, _ in e.range_mode.options] == ["auto", "± max", "manuell"]
+    assert legend.title == "Gaußsche Krümmung K  [1/Länge²]", legend.title
+    assert re.search(r"\d+ Patches bei Tiefe 1; Werte ", info), info
+    assert title.startswith("K, h∘f2 linear (min/max), Tiefe 1"), title
+    assert (g.kind.description, g.step.description) == ("Pfade", "Schritt s_L")
+    assert "Parametergebiet" in g.domain_view.value and "polare Isodistanzkurven" in fan_legend
+    # the same explorer in English
+    with i18n.using("en"):
+        e2 = CurvatureExplorer(surfaces.practical(), depth=1, live=False)
+    assert e2.measure.description == "measure" and e2.legend().title == "Gaussian curvature K  [1/length²]"
+    for x in (e, g, e2):
+        x.close()

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry import colormaps
+from ..i18n import N_, _
 
 __all__ = ["Legend", "legend", "measure_title", "nice_ticks", "format_values", "H_STOPS", "map_range"]
 
@@ -28,12 +29,12 @@ H_STOPS = tuple((float(t), tuple(float(c) for c in colormaps.h(np.array(t)))) fo
 
 #: measure -> (name, symbol, power of 1/length in its unit)
 MEASURES = {
-    "gaussian": ("Gaussian curvature", "K", 2),
-    "classification": ("Gaussian curvature", "K", 2),
-    "mean": ("mean curvature", "H", 1),
-    "k1": ("max. principal curvature", "κ1", 1),
-    "k2": ("min. principal curvature", "κ2", 1),
-    "strain-energy": ("strain energy", "κ1² + κ2²", 2),
+    "gaussian": (N_("Gaussian curvature"), "K", 2),
+    "classification": (N_("Gaussian curvature"), "K", 2),
+    "mean": (N_("mean curvature"), "H", 1),
+    "k1": (N_("max. principal curvature"), "κ1", 1),
+    "k2": (N_("min. principal curvature"), "κ2", 1),
+    "strain-energy": (N_("strain energy"), "κ1² + κ2²", 2),
 }
 
 PERCEPTUAL = ("viridis", "cividis", "coolwarm", "RdBu_r")
@@ -42,8 +43,8 @@ PERCEPTUAL = ("viridis", "cividis", "coolwarm", "RdBu_r")
 def measure_title(measure, *, long=True):
     """The bar's title with units, e.g. ``"Gaussian curvature K  [1/length²]"``."""
     name, symbol, power = MEASURES[measure]
-    unit = "1/length²" if power == 2 else "1/length"
-    return f"{name} {symbol}  [{unit}]" if long else f"{symbol} [{unit}]"
+    unit = _("1/length²") if power == 2 else _("1/length")
+    return f"{_(name)} {symbol}  [{unit}]" if long else f"{symbol} [{unit}]"
 
 
 def _minus(text):
@@ -277,16 +278,17 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
     """
     options = dict(options or {})
     values = np.zeros(0) if values is None else np.asarray(values, dtype=float)
-    _, symbol, _ = MEASURES[measure]
+    symbol = MEASURES[measure][1]
     title = measure_title(measure)
     if measure == "classification" or color_map == "classification":
         red, green, blue = (tuple(float(x) for x in colormaps.h(np.array(t))) for t in (1.0, 0.5, 0.0))
         zero = "≈ 0" if tol else "= 0"
         if symbol == "K":
-            classes = (("K > 0 elliptic", red), (f"K {zero} parabolic, flat", green), ("K < 0 hyperbolic", blue))
+            classes = ((_("K > 0 elliptic"), red), (_("K {zero} parabolic, flat").format(zero=zero), green),
+                       (_("K < 0 hyperbolic"), blue))
         else:
             classes = ((f"{symbol} > 0", red), (f"{symbol} {zero}", green), (f"{symbol} < 0", blue))
-        note = f"|{symbol}| ≤ {_minus(_sci(tol, 1))} counts as 0" if tol else ""
+        note = _("|{symbol}| ≤ {tol} counts as 0").format(symbol=symbol, tol=_minus(_sci(tol, 1))) if tol else ""
         return Legend(title=title, classes=classes, note=note)
     lo, hi = map_range(color_map, values, clim=clim, options=options)
     if color_map == "dill":
@@ -296,7 +298,7 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
             stops += [(k / 5, tuple(float(x) for x in c)), ((k + 1) / 5, tuple(float(x) for x in c))]
         labels = format_values(edges, spacing=(hi - lo) / 5)
         return Legend(title=title, stops=tuple(stops), ticks=tuple(zip((np.arange(6) / 5).tolist(), labels)),
-                      clim=(lo, hi), note="five bands (Dill); values outside take the nearest band")
+                      clim=(lo, hi), note=_("five bands (Dill); values outside take the nearest band"))
     if color_map == "signed-log":
         a = np.abs(values[np.isfinite(values)])
         M = hi
@@ -306,7 +308,8 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
         if s <= 0:
             s = M * 1e-3
         return Legend(title=title, stops=H_STOPS, ticks=_signed_log_ticks(M, s), clim=(-M, M),
-                      note=f"signed logarithmic scale, linear below {format_values([s], spacing=s * 0.1)[0]}")
+                      note=_("signed logarithmic scale, linear below {s}").format(
+                          s=format_values([s], spacing=s * 0.1)[0]))
     if color_map in PERCEPTUAL:
         from matplotlib import colormaps as mpl_colormaps
 
@@ -315,9 +318,9 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
         stops = tuple((float(x), tuple(float(c) for c in cmap(x)[:3])) for x in t)
     else:
         stops = H_STOPS
-    note = {"cut": "values below 0 and above 1 take the end colours (f1)",
-            "percentile": "2nd to 98th percentile; values beyond take the end colours"}.get(color_map, "")
+    note = {"cut": _("values below 0 and above 1 take the end colours (f1)"),
+            "percentile": _("2nd to 98th percentile; values beyond take the end colours")}.get(color_map, "")
     if hi > lo and not hi - lo > 1e-6 * max(abs(lo), abs(hi)):
-        note = (f"all values {format_values([0.5 * (lo + hi)], spacing=abs(hi) * 1e-3)[0]} up to rounding "
-                f"({_minus(_sci(hi - lo, 1))})")
+        note = _("all values {value} up to rounding ({spread})").format(
+            value=format_values([0.5 * (lo + hi)], spacing=abs(hi) * 1e-3)[0], spread=_minus(_sci(hi - lo, 1)))
     return Legend(title=title, stops=stops, ticks=_linear_ticks(lo, hi), clim=(lo, hi), note=note)

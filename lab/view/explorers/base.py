@@ -49,6 +49,7 @@ import numpy as np
 import pyvista as pv
 
 from ...geometry.curvature import DegeneratePointWarning
+from ...i18n import N_, _, language
 from .. import style
 from ..render import configure_offscreen
 from .live import push_camera as _push_camera
@@ -64,6 +65,13 @@ _BY_CELL = {}  # cell id -> (execution count, [weakref to explorer, ...])
 BACKENDS = ("client", "server", "trame")
 DEFAULT_BACKEND = "client"
 STYLE = {"description_width": "78px"}
+#: width of the controls' labels per language (German labels are longer: "Farbabbildung", "Startpunkt u0")
+LABEL_WIDTH = {"en": "78px", "de": "104px"}
+
+
+def style_for(**extra):
+    """The controls' label style in the current language (``extra``: further style keys)."""
+    return {"description_width": LABEL_WIDTH.get(language(), STYLE["description_width"]), **extra}
 
 
 def callback_threads():
@@ -161,7 +169,7 @@ class Explorer:
         (images rendered in the kernel) or ``"trame"`` (trame's hybrid view).
     """
 
-    title = "explorer"
+    title = N_("explorer")
     camera_direction = None  #: a fixed view direction for the camera; None: the lab's automatic oblique view
 
     def __init__(self, *, window_size=(800, 500), live=None, backend=None):
@@ -271,7 +279,7 @@ class Explorer:
 
     def _run(self, action):
         """Run ``action`` to its end now (plain or async), timed, errors in the status line."""
-        for _ in self._steps(action):
+        for _step in self._steps(action):
             pass
 
     def _steps(self, action):
@@ -311,7 +319,7 @@ class Explorer:
                 coroutine.close()
             raise
         except NotImplementedError as exc:
-            self._say(f"not implemented yet: {exc}", "note")
+            self._say(_("not implemented yet: {error}").format(error=exc), "note")
         except _Note as note:
             self._say(str(note), "note")
         except Exception as exc:  # shown to the user, never a traceback in the notebook
@@ -361,7 +369,7 @@ class Explorer:
         return legend.html() if legend is not None else ""
 
     def picture_title(self):
-        return self.title
+        return _(self.title)
 
     def _fit_mesh(self):
         """The mesh the camera is fitted to (the scene's main surface)."""
@@ -438,7 +446,7 @@ class Explorer:
         """The ipywidgets box: title and status, controls, the 3D view, its legend and extra views."""
         if self._widget is None:
             view = self._make_view()
-            head = W.HBox([W.HTML(f"<b>{html.escape(self.title)}</b>", layout=W.Layout(flex="0 0 auto",
+            head = W.HBox([W.HTML(f"<b>{html.escape(_(self.title))}</b>", layout=W.Layout(flex="0 0 auto",
                                                                                        margin="0 1em 0 0")),
                            self.status, self.progress],
                           layout=W.Layout(align_items="center", width="auto", padding="0 0 0 4px"))
@@ -459,7 +467,8 @@ class Explorer:
         # conversion: a widget view would make nbconvert's HTML depend on widget JavaScript from the network.
         # In a Jupyter session it shows the live view only: a picture would be an offscreen render in the kernel
         # (time, and a GL context whose memory stays with the process); e.png() makes one on request.
-        text = {"text/plain": f"{self.title} (open the notebook in JupyterLab for the interactive view)"}
+        text = {"text/plain": _("{title} (open the notebook in JupyterLab for the interactive view)").format(
+            title=_(self.title))}
         if in_jupyter_session():
             return {**text, **self.widget._repr_mimebundle_(include=include, exclude=exclude)}
         return {"image/png": base64.b64encode(self.png()).decode(), **text}
@@ -537,7 +546,9 @@ def _close_tree(widget):
 
 
 def _dropdown(options, value, description):
-    return W.Dropdown(options=options, value=value, description=description, style=STYLE, layout=_layout())
+    """A dropdown with translated labels (``options``: (label, value) pairs, labels marked with ``N_``)."""
+    return W.Dropdown(options=[(_(label), v) for label, v in options], value=value, description=_(description),
+                      style=style_for(), layout=_layout())
 
 
 def _layout():

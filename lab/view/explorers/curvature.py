@@ -8,33 +8,35 @@ import pyvista as pv
 
 from ... import mesh as _mesh
 from ...geometry import colormaps
+from ...i18n import N_, _
 from ...geometry.curvature import Curvature, CurvatureMode, curvature_values, zero_tolerance
 from ...model.patches import BezierPatches
 from .. import legend as _legend
 from .. import style
-from .base import STYLE, Explorer, _dropdown, _layout, checkpoint
+from .base import Explorer, _dropdown, _layout, checkpoint, style_for
 
 __all__ = ["CurvatureExplorer"]
 
 
 # Colour maps of the explorer: label -> name; the practical's ramp h, Dill's bands, or a perceptual map.
 _H_MAPS = {
-    "h∘f2 linear (min/max)": "linear",
-    "h∘f1 cut [0, 1]": "cut",
-    "h∘f3 classification": "classification",
-    "Dill's five bands": "dill",
-    "symmetric (0 = green)": "symmetric",
-    "percentile 2–98": "percentile",
-    "signed log": "signed-log",
+    N_("h∘f2 linear (min/max)"): "linear",
+    N_("h∘f1 cut [0, 1]"): "cut",
+    N_("h∘f3 classification"): "classification",
+    N_("Dill's five bands"): "dill",
+    N_("symmetric (0 = green)"): "symmetric",
+    N_("percentile 2–98"): "percentile",
+    N_("signed log"): "signed-log",
 }
-_PERCEPTUAL = {"viridis": "viridis", "cividis": "cividis", "coolwarm (diverging)": "coolwarm", "RdBu (diverging)": "RdBu_r"}
+_PERCEPTUAL = {"viridis": "viridis", "cividis": "cividis", N_("coolwarm (diverging)"): "coolwarm",
+               N_("RdBu (diverging)"): "RdBu_r"}
 _MEASURES = {
-    "K  Gaussian": "gaussian",
-    "H  mean": "mean",
-    "κ1  max. principal": "k1",
-    "κ2  min. principal": "k2",
-    "κ1² + κ2²  strain energy": "strain-energy",
-    "classification (sign of K)": "classification",
+    N_("K  Gaussian"): "gaussian",
+    N_("H  mean"): "mean",
+    N_("κ1  max. principal"): "k1",
+    N_("κ2  min. principal"): "k2",
+    N_("κ1² + κ2²  strain energy"): "strain-energy",
+    N_("classification (sign of K)"): "classification",
 }
 #: maps whose range the range control sets (the others fix their own: cut [0, 1], ± max, percentiles, …)
 _RANGED = {"linear", "dill", *_PERCEPTUAL.values()}
@@ -76,7 +78,7 @@ class CurvatureExplorer(Explorer):
         As :class:`lab.view.explorers.base.Explorer`.
     """
 
-    title = "curvature explorer"
+    title = N_("curvature explorer")
 
     def __init__(self, surface, patches_class=None, *, depth=2, max_depth=6, window_size=(800, 500), live=None,
                  backend=None):
@@ -101,18 +103,18 @@ class CurvatureExplorer(Explorer):
         measures = {k: v for k, v in _MEASURES.items() if not student or v in ("gaussian", "mean", "k1", "k2")}
         maps = dict(list(_H_MAPS.items())[:3]) if student else {**_H_MAPS, **_PERCEPTUAL}
         c = self._control
-        self.measure = c(_dropdown(list(measures.items()), "gaussian", "measure"))
-        self.color_map = c(_dropdown(list(maps.items()), "linear", "colour map"))
-        self.depth = c(W.IntSlider(value=depth, min=0, max=max_depth, description="depth", style=STYLE,
+        self.measure = c(_dropdown(list(measures.items()), "gaussian", N_("measure")))
+        self.color_map = c(_dropdown(list(maps.items()), "linear", N_("colour map")))
+        self.depth = c(W.IntSlider(value=depth, min=0, max=max_depth, description=_("depth"), style=style_for(),
                                    continuous_update=False, layout=_layout()))
         self.range_mode = c(W.ToggleButtons(
-            options=[("auto", "auto"), ("± max", "symmetric"), ("manual", "manual")], value="auto",
-            description="range", style={"description_width": "46px", "button_width": "auto"}, layout=_layout(),
-            tooltips=["min … max of the values", "−max|value| … +max|value|", "type min and max"]))
+            options=[(_("auto"), "auto"), ("± max", "symmetric"), (_("manual"), "manual")], value="auto",
+            description=_("range"), style={"description_width": "46px", "button_width": "auto"}, layout=_layout(),
+            tooltips=[_("min … max of the values"), "−max|value| … +max|value|", _("type min and max")]))
         self.range_mode.add_class("lab-range-mode")
-        self.range_min = c(W.Text(value="", description="min", continuous_update=False, disabled=True,
+        self.range_min = c(W.Text(value="", description=_("min"), continuous_update=False, disabled=True,
                                   style={"description_width": "30px"}, layout=W.Layout(width="auto", flex="1 1 0", min_width="0")))
-        self.range_max = c(W.Text(value="", description="max", continuous_update=False, disabled=True,
+        self.range_max = c(W.Text(value="", description=_("max"), continuous_update=False, disabled=True,
                                   style={"description_width": "30px"}, layout=W.Layout(width="auto", flex="1 1 0", min_width="0")))
         self.range_min.add_class("lab-range-min")
         self.range_max.add_class("lab-range-max")
@@ -120,11 +122,11 @@ class CurvatureExplorer(Explorer):
         # the control the browser tests change (for the practical's maps on K, linear and cut look alike)
         (self.measure if student else self.color_map).add_class("lab-primary-control")
         self.depth.add_class("lab-depth")
-        self.show_net = c(W.Checkbox(value=False, description="control net", indent=False,
+        self.show_net = c(W.Checkbox(value=False, description=_("control net"), indent=False,
                                      layout=W.Layout(width="auto")))
-        self.show_borders = c(W.Checkbox(value=False, description="patch borders", indent=False,
+        self.show_borders = c(W.Checkbox(value=False, description=_("patch borders"), indent=False,
                                          layout=W.Layout(width="auto")))
-        self.fit_button = c(W.Button(description="fit view", tooltip="the oblique view of the whole surface",
+        self.fit_button = c(W.Button(description=_("fit view"), tooltip=_("the oblique view of the whole surface"),
                                      layout=W.Layout(width="auto")))
         self.info = c(W.HTML())
         self.clim = (0.0, 1.0)  # the range of values the colours span now (what the readouts show)
@@ -140,7 +142,7 @@ class CurvatureExplorer(Explorer):
         self._observe(self.depth, self.set_depth)
         self._observe(self.show_net, self.toggle_overlays)
         self._observe(self.show_borders, self.toggle_overlays)
-        self.fit_button.on_click(lambda _: self._on_main(self._request, self.fit_camera))
+        self.fit_button.on_click(lambda _button: self._on_main(self._request, self.fit_camera))
 
     def _controls(self):
         return [self.measure, self.color_map, self.range_mode, self.range_box, self.depth,
@@ -208,23 +210,23 @@ class CurvatureExplorer(Explorer):
         if self.student is None and depth in self._meshes:
             new = self._meshes[depth]
         else:
-            self._show_progress(0.1, f"refining to depth {depth} …")
+            self._show_progress(0.1, _("refining to depth {depth} …").format(depth=depth))
             await checkpoint()
             if self._base is not None and self.student is None:
                 patches = self._base.copy()
                 for level in range(depth):
                     patches.refine(1)
                     self._show_progress(0.1 + 0.4 * (level + 1) / max(depth, 1),
-                                        f"refining to depth {depth}: {len(patches)} patches …")
+                                        _("refining to depth {depth}: {n} patches …").format(depth=depth, n=len(patches)))
                     await checkpoint()
-                self._show_progress(0.6, f"curvature at the corners of {len(patches)} patches …")
+                self._show_progress(0.6, _("curvature at the corners of {n} patches …").format(n=len(patches)))
                 await checkpoint()
                 new = _mesh.patches_mesh(patches)
                 _prepare(new)
                 self._meshes[depth] = new
             else:
                 new = self._mesh_for(depth)
-            self._show_progress(0.9, "updating the view …")
+            self._show_progress(0.9, _("updating the view …"))
             await checkpoint()
         self.mesh.copy_from(new, deep=False)
         if self.borders_actor is not None:
@@ -283,13 +285,13 @@ class CurvatureExplorer(Explorer):
             typed = (float(self.range_min.value.replace("−", "-")), float(self.range_max.value.replace("−", "-")))
         except ValueError:
             self._show_readouts()
-            raise ValueError("min and max must be numbers, e.g. -0.5 and 2") from None
+            raise ValueError(_("min and max must be numbers, e.g. -0.5 and 2")) from None
         # an unchanged field keeps its exact value (the readout shows it rounded)
         lo = lo if self.range_min.value == _readout(lo) else typed[0]
         hi = hi if self.range_max.value == _readout(hi) else typed[1]
         if not hi > lo:
             self._show_readouts()
-            raise ValueError(f"max must be larger than min; got min {lo:g}, max {hi:g}")
+            raise ValueError(_("max must be larger than min; got min {lo:g}, max {hi:g}").format(lo=lo, hi=hi))
         self._manual = (lo, hi)
         self.recolor()
 
@@ -348,8 +350,9 @@ class CurvatureExplorer(Explorer):
     def picture_title(self):
         maps = {v: k for k, v in self.color_map.options}
         what = _legend.MEASURES[self.measure.value][1] if self.measure.value != "classification" else "K"
-        mine = ", your visualize_curvature" if self.student is not None else ""
-        return f"{what}, {maps.get(self.color_map.value, self.color_map.value)}, depth {self.depth.value}{mine}"
+        title = _("{what}, {map}, depth {depth}").format(
+            what=what, map=maps.get(self.color_map.value, self.color_map.value), depth=self.depth.value)
+        return title + (_(", your visualize_curvature") if self.student is not None else "")
 
     def _recolor_library(self):
         v = self.values()
@@ -390,12 +393,15 @@ class CurvatureExplorer(Explorer):
         self.mesh.point_data.active_scalars_name = "display"
         self.mesh.GetPointData().GetArray("display").Modified()  # the array was changed in place
         n = int(np.count_nonzero(self.mesh.point_data["degenerate"]))
-        what = "patches" if self._base is not None else "grid cells"
+        what = (_("{n} patches at depth {depth}") if self._base is not None else _("{n} grid cells at depth {depth}"))
         finite = v[np.isfinite(v)]
-        span = (f"values {_readout(float(finite.min()))} … {_readout(float(finite.max()))}".replace("-", "−")
-                if finite.size else "no finite values")
-        self.info.value = (f"<small>{self.mesh.n_cells} {what} at depth {self.depth.value}; {span}"
-                           + (f"; {n} degenerate points" if n else "") + "</small>")
+        span = (_("values {lo} … {hi}").format(lo=_readout(float(finite.min())),
+                                               hi=_readout(float(finite.max()))).replace("-", "−")
+                if finite.size else _("no finite values"))
+        info = what.format(n=self.mesh.n_cells, depth=self.depth.value) + "; " + span
+        if n:
+            info += "; " + _("{n} degenerate points").format(n=n)
+        self.info.value = f"<small>{html.escape(info)}</small>"
 
     def _recolor_student(self):
         """Run the student's visualize_curvature and show the colours it stored."""
@@ -405,7 +411,7 @@ class CurvatureExplorer(Explorer):
         cmap = self.color_map.value
         patches.visualize_curvature(CurvatureMode(mode), cmap)
         if not np.all(np.isfinite(patches.colors)):
-            raise ValueError("your visualize_curvature did not store colours for every patch (set_colors)")
+            raise ValueError(_("your visualize_curvature did not store colours for every patch (set_colors)"))
         new = _mesh.patches_mesh(patches)
         _prepare(new)
         self.mesh.copy_from(new, deep=False)
@@ -416,8 +422,9 @@ class CurvatureExplorer(Explorer):
         self.actor.mapper.ScalarVisibilityOn()
         v = np.asarray(new.point_data["values"]) if "values" in new.point_data else self.values()
         self.clim = _legend.map_range(cmap, v) if cmap != "classification" else None
-        self.info.value = (f"<small>your visualize_curvature on {len(patches)} patches; values "
-                           f"{_readout(float(np.nanmin(v)))} … {_readout(float(np.nanmax(v)))}</small>".replace("-", "−"))
+        info = _("your visualize_curvature on {n} patches; values {lo} … {hi}").format(
+            n=len(patches), lo=_readout(float(np.nanmin(v))), hi=_readout(float(np.nanmax(v)))).replace("-", "−")
+        self.info.value = f"<small>{html.escape(info)}</small>"
 
 
 def _prepare(mesh):

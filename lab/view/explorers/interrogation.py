@@ -9,43 +9,45 @@ import pyvista as pv
 
 from ... import mesh as _mesh
 from ...geometry.curvature import DegeneratePointWarning
+from ...i18n import N_, _
 from ...interrogation.geodesics import Fan, geodesic_fan, normal_section_fan, polar_isodistance
 from ...interrogation.meshes import as_curvature_mesh, focal_surface, isophotes, reflection_lines, stripe_mapping
 from ...interrogation.reflection import VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
-from .base import STYLE, Explorer, _dropdown, _layout, _Note, _polylines, checkpoint
+from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
 
 __all__ = ["FocalExplorer", "ReflectionExplorer", "GeodesicExplorer"]
 
 
 def _slider(cls, description, **kwargs):
     kwargs.setdefault("continuous_update", False)  # act on release: no intermediate values
-    return cls(description=description, style=STYLE, layout=_layout(), **kwargs)
+    return cls(description=_(description), style=style_for(), layout=_layout(), **kwargs)
 
 
 class FocalExplorer(Explorer):
     """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (seeds/002, section 4)."""
 
-    title = "focal surface explorer"
-    FUNCTIONS = {"H  mean": "mean", "K  Gaussian": "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1", "κ2": "k2"}
+    title = N_("focal surface explorer")
+    FUNCTIONS = {N_("H  mean"): "mean", N_("K  Gaussian"): "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1",
+                 "κ2": "k2"}
 
     def __init__(self, surface, *, scale=None, resolution=48, window_size=(800, 500), live=None, backend=None):
         super().__init__(window_size=window_size, live=live, backend=backend)
         self._focal = focal_surface
         self.source = surface
         self.resolution = resolution
-        self.function = self._control(_dropdown(list(self.FUNCTIONS.items()), "mean", "function"))
+        self.function = self._control(_dropdown(list(self.FUNCTIONS.items()), "mean", N_("function")))
         if scale is None:  # the largest displacement a tenth of the model's size
             probe = focal_surface(surface, scale=1.0, function="mean", resolution=resolution)
             size = float(np.linalg.norm(np.ptp(probe.point_data["X"], axis=0)))
             fmax = float(np.max(np.abs(probe.point_data["f"]))) or 1.0
             scale = float(f"{0.1 * size / fmax:.2g}")
         limit = 10 * abs(scale) or 1.0
-        self.scale = self._control(_slider(W.FloatSlider, "scale a", value=scale, min=-limit, max=limit,
+        self.scale = self._control(_slider(W.FloatSlider, N_("scale a"), value=scale, min=-limit, max=limit,
                                            step=limit / 500, readout_format=".3g"))
         self.function.add_class("lab-primary-control")
-        self.show_surface = self._control(W.Checkbox(value=True, description="surface", indent=False))
+        self.show_surface = self._control(W.Checkbox(value=True, description=_("surface"), indent=False))
         self._build_scene()
         for w in (self.function, self.scale, self.show_surface):
             self._observe(w, self.update_focal)
@@ -87,27 +89,29 @@ class FocalExplorer(Explorer):
 class ReflectionExplorer(Explorer):
     """Reflection lines, isophotes and the striped box mapping on a surface (seeds/002, section 3)."""
 
-    title = "reflection explorer"
+    title = N_("reflection explorer")
     camera_direction = VIEW_DIRECTION  # reflections depend on the eye: look from the one they are computed for
-    KINDS = {"stripe box mapping": "stripes", "reflection lines (light lines)": "lines", "isophotes": "isophotes"}
+    KINDS = {N_("stripe box mapping"): "stripes", N_("reflection lines (light lines)"): "lines",
+             N_("isophotes"): "isophotes"}
 
     def __init__(self, surface, *, resolution=64, window_size=(800, 500), live=None, backend=None):
         super().__init__(window_size=window_size, live=live, backend=backend)
         self.source = surface
         self.resolution = resolution
         c = self._control
-        self.kind = c(_dropdown(list(self.KINDS.items()), "stripes", "show"))
+        self.kind = c(_dropdown(list(self.KINDS.items()), "stripes", N_("show")))
         self.kind.add_class("lab-primary-control")
-        self.count = c(_slider(W.IntSlider, "stripes / lines", value=8, min=1, max=40))
-        self.azimuth = c(_slider(W.FloatSlider, "light dir. °", value=0.0, min=0.0, max=180.0, step=1.0,
+        self.count = c(_slider(W.IntSlider, N_("stripes / lines"), value=8, min=1, max=40))
+        self.azimuth = c(_slider(W.FloatSlider, N_("light dir. °"), value=0.0, min=0.0, max=180.0, step=1.0,
                                  readout_format=".0f"))
-        self.elevation = c(_slider(W.FloatSlider, "light elev. °", value=60.0, min=-90.0, max=90.0, step=1.0,
+        self.elevation = c(_slider(W.FloatSlider, N_("light elev. °"), value=60.0, min=-90.0, max=90.0, step=1.0,
                                    readout_format=".0f"))
-        self.orientation = c(W.ToggleButtons(options=["horizontal", "vertical"], value="horizontal",
-                                             description="stripes", style={**STYLE, "button_width": "auto"},
+        self.orientation = c(W.ToggleButtons(options=[(_("horizontal"), "horizontal"), (_("vertical"), "vertical")],
+                                             value="horizontal", description=_("stripes"),
+                                             style=style_for(button_width="auto"),
                                              layout=_layout()))
         # light-line spacing as a multiple of the default, which spreads the lines over three diagonals
-        self.spacing = c(_slider(W.FloatSlider, "line spacing ×", value=1.0, min=0.1, max=3.0, step=0.05,
+        self.spacing = c(_slider(W.FloatSlider, N_("line spacing ×"), value=1.0, min=0.1, max=3.0, step=0.05,
                                  readout_format=".2f"))
         self._build_scene()
         for w in (self.kind, self.count, self.azimuth, self.elevation, self.orientation, self.spacing):
@@ -147,7 +151,7 @@ class ReflectionExplorer(Explorer):
         elif kind == "lines":
             horizontal = np.array([d[0], d[1], 0.0])
             if np.linalg.norm(horizontal) < 1e-9:
-                raise ValueError("the light lines need a direction with a horizontal part; lower the elevation")
+                raise ValueError(_("the light lines need a direction with a horizontal part; lower the elevation"))
             new = reflection_lines(self.surface_mesh, direction=horizontal, count=n,
                                    spacing=self.spacing.value * 3.0 * size / n)
         else:
@@ -158,7 +162,7 @@ class ReflectionExplorer(Explorer):
         if new.n_points == 0:
             self.surface_actor.SetVisibility(True)
             self.refresh()
-            raise _Note("no lines fall on the surface for this direction and spacing: change them")
+            raise _Note(_("no lines fall on the surface for this direction and spacing: change them"))
         if kind == "stripes":
             self.overlay_actor = self.plotter.add_mesh(new, scalars="RGB", rgb=True, preference="cell",
                                                        **style.SURFACE_PROPERTIES)
@@ -193,8 +197,8 @@ class GeodesicExplorer(Explorer):
         Deprecated name of ``n_curves``.
     """
 
-    title = "geodesic explorer"
-    KINDS = {"geodesics": "geodesic", "normal sections": "normal-section"}
+    title = N_("geodesic explorer")
+    KINDS = {N_("geodesics"): "geodesic", N_("normal sections"): "normal-section"}
     # paths integrated per step: progress, and a newer request cancels between steps.  The vectorised integrator
     # costs about the same per call whatever the number of paths, so steps are large (2 x 20 paths: +75%).
     CHUNK = 40
@@ -217,16 +221,16 @@ class GeodesicExplorer(Explorer):
         if step is None:
             step = float(f"{size / (5 * n_curves):.2g}")
         c = self._control
-        self.kind = c(_dropdown(list(self.KINDS.items()), "geodesic", "paths"))
-        self.u0 = c(_slider(W.FloatSlider, "start u0", value=start[0], min=u0, max=u1, step=(u1 - u0) / 200))
-        self.v0 = c(_slider(W.FloatSlider, "start v0", value=start[1], min=v0, max=v1, step=(v1 - v0) / 200))
+        self.kind = c(_dropdown(list(self.KINDS.items()), "geodesic", N_("paths")))
+        self.u0 = c(_slider(W.FloatSlider, N_("start u0"), value=start[0], min=u0, max=u1, step=(u1 - u0) / 200))
+        self.v0 = c(_slider(W.FloatSlider, N_("start v0"), value=start[1], min=v0, max=v1, step=(v1 - v0) / 200))
         self.u0.add_class("lab-primary-control")
-        self.n_angles = c(_slider(W.IntSlider, "angles", value=n_angles, min=3, max=160))
-        self.angle_range = c(_slider(W.FloatRangeSlider, "α range °", value=(0.0, 360.0), min=0.0, max=360.0,
+        self.n_angles = c(_slider(W.IntSlider, N_("angles"), value=n_angles, min=3, max=160))
+        self.angle_range = c(_slider(W.FloatRangeSlider, N_("α range °"), value=(0.0, 360.0), min=0.0, max=360.0,
                                      step=1.0, readout_format=".0f"))
         self.step = c(W.BoundedFloatText(value=step, min=size * 1e-4, max=size * 10, step=step / 10,
-                                         description="step s_L", style=STYLE, layout=_layout()))
-        self.count = c(_slider(W.IntSlider, "curves", value=n_curves, min=1, max=40))
+                                         description=_("step s_L"), style=style_for(), layout=_layout()))
+        self.count = c(_slider(W.IntSlider, N_("curves"), value=n_curves, min=1, max=40))
         self.domain_view = c(W.HTML(layout=W.Layout(width="100%")))
         self.domain_view.add_class("lab-domain-view")
         self._fan_key = None
@@ -258,10 +262,11 @@ class GeodesicExplorer(Explorer):
     def legend_html(self):
         if self.fan is None:
             return ""
-        kind = "geodesics" if self.kind.value == "geodesic" else "normal sections"
+        kind = _("geodesics") if self.kind.value == "geodesic" else _("normal sections")
+        curves = html.escape(_("polar isodistance curves at"))
         return (f'<div class="lab-legend" style="font-size:12px;text-align:center">'
                 f'<span style="color:#1f3b73;font-weight:700">━</span> {len(self.fan or [])} {kind} &nbsp; '
-                f'<span style="color:#d62728;font-weight:700">━</span> polar isodistance curves at '
+                f'<span style="color:#d62728;font-weight:700">━</span> {curves} '
                 f's<sub>L</sub>, 2 s<sub>L</sub>, … (s<sub>L</sub> = {self.step.value:g})</div>')
 
     def _angles(self):
@@ -270,7 +275,7 @@ class GeodesicExplorer(Explorer):
         if hi - lo >= 360.0 - 1e-9:
             return 2 * np.pi * np.arange(n) / n, True
         if hi <= lo:
-            raise ValueError("the angle range is empty: move its two ends apart")
+            raise ValueError(_("the angle range is empty: move its two ends apart"))
         return np.radians(np.linspace(lo, hi, n)), False
 
     async def update_fan(self):
@@ -285,14 +290,15 @@ class GeodesicExplorer(Explorer):
             fan_fn = geodesic_fan if kind == "geodesic" else normal_section_fan
             paths = []
             for first in range(0, n, self.CHUNK):
-                self._show_progress(first / n, f"computing {n} {kind.replace('-', ' ')}s of length {length:g}: "
-                                               f"{first} done …")
+                what = (_("computing {n} geodesics of length {length:g}: {done} done …") if kind == "geodesic"
+                        else _("computing {n} normal sections of length {length:g}: {done} done …"))
+                self._show_progress(first / n, what.format(n=n, length=length, done=first))
                 await checkpoint()
                 part = fan_fn(self.source, uv0, None, length, angles=angles[first:first + self.CHUNK], n_samples=61)
                 paths += part.paths
             self.fan = Fan(paths, angles, part.origin, part.length, part.kind, part.surface, full)
             self._fan_key = key
-            self._show_progress(1.0, "isodistance curves …")
+            self._show_progress(1.0, _("isodistance curves …"))
             await checkpoint()
         fan = self.fan
         distances = self.step.value * np.arange(1, self.count.value + 1)
@@ -310,9 +316,10 @@ class GeodesicExplorer(Explorer):
         reached = [d for d, pieces in zip(distances, iso) if pieces]
         short = [p for p in fan if p.length < length * (1 - 1e-9)]
         stopped = sum(1 for p in short if p.hit_boundary)
-        note = f"{stopped} of {len(fan)} paths reach the boundary before length {length:g}" if stopped else ""
+        note = _("{stopped} of {n} paths reach the boundary before length {length:g}").format(
+            stopped=stopped, n=len(fan), length=length) if stopped else ""
         if len(reached) < len(distances):
-            note += ("; " if note else "") + f"no path reaches s_L ≥ {distances[len(reached)]:g}"
+            note += ("; " if note else "") + _("no path reaches s_L ≥ {s:g}").format(s=distances[len(reached)])
         self.refresh()
         if note:
             raise _Note(note)
@@ -342,7 +349,7 @@ class GeodesicExplorer(Explorer):
             for x, y, a, t in ((m, H_ - m + 4, "middle", f"{u0:g}"), (W_ - m, H_ - m + 4, "middle", f"{u1:g}"),
                                (W_ / 2, H_ - m + 4, "middle", "u"), (m - 4, H_ - m - 10, "end", f"{v0:g}"),
                                (m - 4, m - 6, "end", f"{v1:g}"), (m - 12, H_ / 2 - 10, "end", "v"),
-                               (W_ / 2, 14, "middle", "parameter domain")))
+                               (W_ / 2, 14, "middle", _("parameter domain"))))
         clip = (f'<clipPath id="lab-domain-clip"><rect x="{m}" y="{m - 10}" width="{W_ - 2 * m}" '
                 f'height="{H_ - 2 * m}"/></clipPath>')
         return (f'<svg viewBox="0 0 {W_:.0f} {H_:.0f}" style="width:100%;max-width:900px;height:auto;display:block;'
