@@ -27,6 +27,9 @@ from .browser_support import (
 ROOT = Path(__file__).resolve().parent.parent
 # the solutions in both languages (generated from the bilingual sources in solutions/ by `make exercises`)
 LANGUAGES = ("en", "de")
+#: the explorers' titles in each language (the German notebooks call lab.set_language("de"))
+TITLES = {"en": ("curvature explorer", "focal surface explorer", "reflection explorer", "geodesic explorer"),
+          "de": ("Krümmungs-Explorer", "Brennflächen-Explorer", "Reflexions-Explorer", "Geodätische-Explorer")}
 NOTEBOOKS = [p.name for p in sorted((ROOT / "solutions" / "en").glob("*.ipynb")) if "Explorer(" in p.read_text()]
 
 pytestmark = pytest.mark.skipif(os.environ.get("LAB_SKIP_BROWSER") == "1", reason="LAB_SKIP_BROWSER=1")
@@ -105,6 +108,8 @@ def test_explorers_live_in_jupyterlab(browser, tmp_path, name, lang):
         nb.run_all()
         nb.shot("after-run-all")
         n = _exercise_explorers(nb, Path(name).stem)
+        titles = [nb.explorers().nth(k).locator("b").first.inner_text() for k in range(n)]
+        assert set(titles) <= set(TITLES[lang]), f"explorer titles {titles} are not in {lang!r}; see {nb.shot('titles')}"
         out = nb.run_cell("print('kernel-alive', 6 * 7, lab.widgets.callback_threads())", "kernel-alive 42")
         assert "MainThread" in out or "Thread" in out, out
         nb.shot("end")

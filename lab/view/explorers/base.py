@@ -65,13 +65,16 @@ _BY_CELL = {}  # cell id -> (execution count, [weakref to explorer, ...])
 BACKENDS = ("client", "server", "trame")
 DEFAULT_BACKEND = "client"
 STYLE = {"description_width": "78px"}
-#: width of the controls' labels per language (German labels are longer: "Farbabbildung", "Startpunkt u0")
+#: width of the controls' labels per language (German labels are longer: "Farbabbildung", "Unterteilung"),
+#: and of the short labels beside button rows ("range", "Bereich")
 LABEL_WIDTH = {"en": "78px", "de": "104px"}
+SHORT_LABEL_WIDTH = {"en": "46px", "de": "60px"}
 
 
-def style_for(**extra):
-    """The controls' label style in the current language (``extra``: further style keys)."""
-    return {"description_width": LABEL_WIDTH.get(language(), STYLE["description_width"]), **extra}
+def style_for(short=False, **extra):
+    """The controls' label style in the current language (``short``: a short label; ``extra``: further keys)."""
+    widths = SHORT_LABEL_WIDTH if short else LABEL_WIDTH
+    return {"description_width": widths.get(language(), widths["en"]), **extra}
 
 
 def callback_threads():

@@ -109,7 +109,7 @@ class CurvatureExplorer(Explorer):
                                    continuous_update=False, layout=_layout()))
         self.range_mode = c(W.ToggleButtons(
             options=[(_("auto"), "auto"), ("± max", "symmetric"), (_("manual"), "manual")], value="auto",
-            description=_("range"), style={"description_width": "46px", "button_width": "auto"}, layout=_layout(),
+            description=_("range"), style=style_for(short=True, button_width="auto"), layout=_layout(),
             tooltips=[_("min … max of the values"), "−max|value| … +max|value|", _("type min and max")]))
         self.range_mode.add_class("lab-range-mode")
         self.range_min = c(W.Text(value="", description=_("min"), continuous_update=False, disabled=True,
