@@ -13,6 +13,7 @@ import numpy as np
 from ...geometry import bezier
 from ...geometry.derivatives import Derivatives, from_homogeneous
 
+
 class _PatchEvaluator:
     """Derivatives of the Bézier patches of a (rational) B-spline surface at local parameters, extended beyond [0, 1].
 
