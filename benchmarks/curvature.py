@@ -24,9 +24,11 @@ shared: read the ratios, and the load average printed first):
    (linear means constant per patch), against a per-patch, per-corner
    Python loop (the student's way) and with the error against sympy-exact
    values at sampled corners and against the B-spline evaluator at all corners.
-   The times are the least of ``--rounds`` samples per depth, taken in rounds
-   over all depths, each sample at least 0.2 s of CPU time; the kernel's part
-   (first touch of new memory) is shown apart.
+   The times are CPU times, the least of ``--rounds`` samples per depth, taken
+   in rounds over all depths, each sample at least 0.2 s; the kernel's part
+   (first touch of new memory) is shown apart, and refine also "cold", with
+   memory that was freed long before (on a virtual machine that returns freed
+   memory to its host, touching it again is slow).
 
 Usage: python benchmarks/curvature.py [--points 100000 1000000] [--occt-points 100000] [--max-depth 7]
        [--loop-max-depth 4] [--resolutions 57 113 225 449] [--rounds 9] [--quick]
@@ -321,8 +323,8 @@ def practical_table(args, rng):
             reference[work] = statistics.median(min(c for c, _ in times[work, d]) / (49 * 4**d) for d in window)
             reference[work, "user"] = statistics.median(min(c - k for c, k in times[work, d]) / (49 * 4**d)
                                                         for d in window)
-    header = (f"{'depth':>5} {'patches':>8} | {'refine':>7} {'(sys)':>6} {'user':>6} {'visualize':>9} {'(sys)':>6} "
-              f"{'user':>6} {'touch':>6} {'(sys)':>6} [us/patch] | {'refine':>7} {'visualize':>9} [B/patch] | "
+    header = (f"{'depth':>5} {'patches':>8} | {'refine':>7} {'(sys)':>6} {'user':>6} {'cold':>6} {'(sys)':>6} "
+              f"{'visualize':>9} {'(sys)':>6} {'user':>6} [us/patch] | {'refine':>7} {'visualize':>9} [B/patch] | "
               f"{'loop [s]':>8} {'loop/ours':>9} | {'err exact':>9} {'err all':>8}")
     print(header)
     print("-" * len(header))
@@ -330,11 +332,12 @@ def practical_table(args, rng):
     for depth in depths:
         n = 49 * 4**depth
         cols, flags = [], []
-        for work in ("refine", "visualize", "touch"):
+        for work in ("refine", "cold", "visualize"):
             cpu, sys_ = min(times[work, depth])  # the sample with the least CPU time
             user = min(c - k for c, k in times[work, depth])
-            cols.append(f"{1e6 * cpu / n:7.3f} {1e6 * sys_ / n:6.3f} {1e6 * user / n:6.3f}")
-            if work == "touch":
+            cols.append(f"{1e6 * cpu / n:{9 if work == 'visualize' else 7}.3f} {1e6 * sys_ / n:6.3f} "
+                        f"{1e6 * user / n:6.3f}")
+            if work == "cold":
                 cols[-1] = f"{1e6 * cpu / n:6.3f} {1e6 * sys_ / n:6.3f}"
             elif depth in window:
                 flags += [cpu / n / reference[work] - 1, user / n / reference[work, "user"] - 1]
@@ -366,7 +369,7 @@ def practical_table(args, rng):
             user_ok = max(abs(flags[1]), abs(flags[3])) <= 0.3
             verdict = ("  " + " ".join(f"{100 * x:+.0f}%" for x in flags)
                        + f"  cpu {'ok' if cpu_ok else 'OUT'}, user {'ok' if user_ok else 'OUT'}")
-        print(f"{depth:5d} {n:8d} | {cols[0]} {cols[1]:>23} {cols[2]}            | {mem_refine:7.0f} {mem_vis:9.0f}"
+        print(f"{depth:5d} {n:8d} | {cols[0]} {cols[1]} {cols[2]}            | {mem_refine:7.0f} {mem_vis:9.0f}"
               "           | "
               f"{loop_txt} | {err_exact:9.1e} {err_all:8.1e}{verdict}")
     if window:
@@ -376,40 +379,43 @@ def practical_table(args, rng):
             "patch relative to that median, and whether the CPU times and the user times are within 30% of it")
     print(f"   time: CPU time (user + sys) per patch, the least of {args.rounds} samples taken in rounds over all "
           "depths (so that a busy moment of the machine hits every depth alike), each sample at least 0.2 s of "
-          "repeated calls, GC off; (sys): its kernel part, mostly the first touch of freshly mapped memory (a "
-          "refine result above glibc's 32 MiB mmap threshold is new memory every time, a smaller one reuses "
-          "freed memory); user: without it.  touch: the same for np.full of 512 B per patch (the size of refine's "
-          "result), new memory written once: the machine's price of fresh memory at that size.  On a virtual "
-          "machine that hands freed memory back to its host (virtio-balloon free page reporting), the first touch "
-          "of memory freed more than a few seconds before costs about 2 ns per byte (the host backs the pages "
-          "again), of memory freed just before about 0.1 ns: refine's result, written over a second, pays the "
-          "former; the quick touch control mostly the latter.")
+          "repeated calls, GC off; (sys): its kernel part, mostly the first touch of new memory; user: without it. "
+          "refine: the memory its result will get touched and freed just before (as after any recent work of that "
+          "size); cold: not, the result's memory was freed a round before.  A result above glibc's 32 MiB mmap "
+          "threshold (depth >= 6) is new memory every time, a smaller one reuses freed memory.  On a virtual machine "
+          "that hands freed memory back to its host (virtio-balloon free page reporting), the first touch of "
+          "memory freed seconds before costs about 2 ns per byte (the host backs the pages again), of memory freed "
+          "just before about 0.1 ns: the difference of cold and refine.")
     print("   memory: refine's peak (its result included) and visualize_curvature's peak plus the collection it "
           "colours, per patch; targets: time per patch constant within 30% from depth 3 to 7, <= 1.2 KiB per patch. "
           "err exact: sympy at sampled corners; err all: every corner against the B-spline evaluator.")
 
 
 def interleaved_times(surface, depths, rounds):
-    """``{(work, depth): [(cpu, sys), ...]}`` per call of refine and visualize_curvature, in rounds over the depths."""
+    """``{(work, depth): [(cpu, sys), ...]}`` per call of refine and visualize_curvature, in rounds over the depths.
+
+    ``refine``: its memory touched and freed just before (so the pages it gets are ready); ``cold``: not (a
+    previous sample of the same depth freed it a round before); see :func:`practical_table`.
+    """
     base = surface.to_bezier_patches()
     collections = {d: surface.to_bezier_patches().refine(d) for d in depths}
-    times = {(w, d): [] for w in ("refine", "visualize", "touch") for d in depths}
+    times = {(w, d): [] for w in ("refine", "cold", "visualize") for d in depths}
     for _ in range(rounds):
         for d in depths:
             p = collections[d]
             reps = max(1, int(0.2 / (0.6e-6 * len(p))))  # about 0.2 s of work per sample
-            starts = [base.copy() for _ in range(reps)]
 
-            def refine(i, starts=starts, d=d):
+            def refine(i, starts, d=d):
                 starts[i] = starts[i].refine(d)
                 starts[i] = None  # the result freed before the next call, as in a session that refines again
 
-            times["refine", d].append(cpu_sample(refine, reps))
+            starts = [base.copy() for _ in range(reps)]
+            times["cold", d].append(cpu_sample(lambda i, starts=starts: refine(i, starts), reps))
+            starts = [base.copy() for _ in range(reps)]
+            np.full(72 * len(p), 0.0)  # touched and freed: the memory of the result (512 B per patch) and more
+            times["refine", d].append(cpu_sample(lambda i, starts=starts: refine(i, starts), reps))
             times["visualize", d].append(
                 cpu_sample(lambda i, p=p: p.visualize_curvature(p.CURVATURE_GAUSSIAN, p.COLOR_MAP_LINEAR), reps))
-            # control: new memory of the size of refine's result (512 B per patch), allocated and written once
-            size = 64 * len(p)
-            times["touch", d].append(cpu_sample(lambda i, size=size: np.full(size, 1.0), reps))
     return times
 
 
