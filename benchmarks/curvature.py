@@ -355,7 +355,7 @@ def practical_table(args, rng):
         err_exact = np.max(np.abs(ours.curvature[index, corner[:, 0], corner[:, 1]] - K_exact)) / np.max(np.abs(K_exact))
         K_all = surface.curvature(params[..., 0], params[..., 1]).K
         err_all = np.max(np.abs(ours.curvature - K_all)) / np.max(np.abs(K_all))
-        del refined, ours
+        refined = ours = None  # freed before the next depth
         if depth <= args.loop_max_depth:
             loop = surface.to_bezier_patches().refine(depth)
             t_loop = best_time(lambda: student_visualize(loop), min_time=0.0, max_runs=1 if depth >= 4 else 3)
