@@ -20,18 +20,25 @@ shared: read the ratios, and the load average printed first):
    quadric fit) on the same triangulated mesh: time, and the largest error of
    K over **all** vertices and over interior vertices, relative to max |K|.
 3. **The practical's task.**  ``refine`` and ``visualize_curvature`` of the
-   practical's surface at depths 0 … 7: time and peak memory per patch
+   practical's surface at depths 0 … 7: CPU time and peak memory per patch
    (linear means constant per patch), against a per-patch, per-corner
    Python loop (the student's way) and with the error against sympy-exact
    values at sampled corners and against the B-spline evaluator at all corners.
+   The times are CPU times, the least of ``--rounds`` samples per depth, taken
+   in rounds over all depths, each sample at least 0.2 s; the kernel's part
+   (first touch of new memory) is shown apart, and refine also "cold", with
+   memory that was freed long before (on a virtual machine that returns freed
+   memory to its host, touching it again is slow).
 
 Usage: python benchmarks/curvature.py [--points 100000 1000000] [--occt-points 100000] [--max-depth 7]
-       [--loop-max-depth 4] [--resolutions 57 113 225 449] [--quick]
+       [--loop-max-depth 4] [--resolutions 57 113 225 449] [--rounds 9] [--quick]
 """
 
 import argparse
 import gc
 import os
+import resource
+import statistics
 import time
 import tracemalloc
 import warnings
@@ -57,11 +64,24 @@ def best_time(func, min_time=0.3, max_runs=5, min_runs=1):
     return min(times)
 
 
-def timed_refine(patches, depth):
-    """Wall time of ``patches.refine(depth)`` alone."""
-    start = time.perf_counter()
-    patches.refine(depth)
-    return time.perf_counter() - start
+def cpu_sample(func, reps):
+    """CPU time (user + system) of ``reps`` calls of ``func``, and the system part, per call; no GC meanwhile.
+
+    ``func(i)`` gets the index of the call.  The system part is the kernel's, mostly the first touch of
+    freshly mapped memory (page faults, zeroing the pages).
+    """
+    gc.collect()
+    gc.disable()
+    try:
+        r0 = resource.getrusage(resource.RUSAGE_SELF)
+        c0 = time.process_time()
+        for i in range(reps):
+            func(i)
+        cpu = time.process_time() - c0
+        r1 = resource.getrusage(resource.RUSAGE_SELF)
+    finally:
+        gc.enable()
+    return cpu / reps, (r1.ru_stime - r0.ru_stime) / reps
 
 
 def traced_peak(func):
@@ -293,26 +313,41 @@ def exact_sample(nets, params, index, corner):
 def practical_table(args, rng):
     print("\n3. The practical's task on its surface: refine and visualize_curvature (Gaussian, linear map), "
           "per patch")
-    header = (f"{'depth':>5} {'patches':>8} | {'refine':>7} {'visualize':>9} [us/patch] | {'refine':>7} "
-              f"{'visualize':>9} [B/patch] | {'loop [s]':>8} {'loop/ours':>9} | {'err exact':>9} {'err all':>8}")
+    surface = surfaces.practical()
+    depths = list(range(args.max_depth + 1))
+    times = interleaved_times(surface, depths, args.rounds)
+    window = [d for d in depths if 3 <= d <= 7]
+    reference = {}
+    for work in ("refine", "visualize"):
+        if window:
+            reference[work] = statistics.median(min(c for c, _ in times[work, d]) / (49 * 4**d) for d in window)
+            reference[work, "user"] = statistics.median(min(c - k for c, k in times[work, d]) / (49 * 4**d)
+                                                        for d in window)
+    header = (f"{'depth':>5} {'patches':>8} | {'refine':>7} {'(sys)':>6} {'user':>6} {'cold':>6} {'(sys)':>6} "
+              f"{'visualize':>9} {'(sys)':>6} {'user':>6} [us/patch] | {'refine':>7} {'visualize':>9} [B/patch] | "
+              f"{'loop [s]':>8} {'loop/ours':>9} | {'err exact':>9} {'err all':>8}")
     print(header)
     print("-" * len(header))
-    surface = surfaces.practical()
     nets, _, _, _ = surface.bezier_nets()
-    for depth in range(args.max_depth + 1):
-        start = surface.to_bezier_patches()
-        t_refine = min(timed_refine(start.copy(), depth) for _ in range(2 if depth >= 6 else 3))
-        ours = surface.to_bezier_patches().refine(depth)
-        n = len(ours)
-        t_vis = best_time(lambda: ours.visualize_curvature(ours.CURVATURE_GAUSSIAN, ours.COLOR_MAP_LINEAR),
-                          min_runs=3)
+    for depth in depths:
+        n = 49 * 4**depth
+        cols, flags = [], []
+        for work in ("refine", "cold", "visualize"):
+            cpu, sys_ = min(times[work, depth])  # the sample with the least CPU time
+            user = min(c - k for c, k in times[work, depth])
+            cols.append(f"{1e6 * cpu / n:{9 if work == 'visualize' else 7}.3f} {1e6 * sys_ / n:6.3f} "
+                        f"{1e6 * user / n:6.3f}")
+            if work == "cold":
+                cols[-1] = f"{1e6 * cpu / n:6.3f} {1e6 * sys_ / n:6.3f}"
+            elif depth in window:
+                flags += [cpu / n / reference[work] - 1, user / n / reference[work, "user"] - 1]
         base = surface.to_bezier_patches()
         peak_refine, refined = traced_peak(lambda: base.refine(depth))
         held = refined.control_points.nbytes + refined.curvature.nbytes + refined.colors.nbytes
         peak_vis, _ = traced_peak(lambda: refined.visualize_curvature("gaussian", "linear"))
         mem_refine = peak_refine / n  # everything refine allocates, the result included
         mem_vis = (held + peak_vis) / n  # the collection it works on plus what it allocates
-        del refined
+        ours = refined
         params = patch_parameters(7, depth)
         index = rng.integers(0, n, size=args.samples)
         corner = rng.integers(0, 2, size=(args.samples, 2))
@@ -320,17 +355,68 @@ def practical_table(args, rng):
         err_exact = np.max(np.abs(ours.curvature[index, corner[:, 0], corner[:, 1]] - K_exact)) / np.max(np.abs(K_exact))
         K_all = surface.curvature(params[..., 0], params[..., 1]).K
         err_all = np.max(np.abs(ours.curvature - K_all)) / np.max(np.abs(K_all))
+        refined = ours = None  # freed before the next depth
         if depth <= args.loop_max_depth:
             loop = surface.to_bezier_patches().refine(depth)
             t_loop = best_time(lambda: student_visualize(loop), min_time=0.0, max_runs=1 if depth >= 4 else 3)
+            t_vis = min(c for c, _ in times["visualize", depth])
             loop_txt = f"{t_loop:8.3f} {t_loop / t_vis:8.0f}x"
         else:
             loop_txt = f"{'-':>8} {'-':>9}"
-        print(f"{depth:5d} {n:8d} | {1e6 * t_refine / n:7.3f} {1e6 * t_vis / n:9.3f}            | "
-              f"{mem_refine:7.0f} {mem_vis:9.0f}           | {loop_txt} | {err_exact:9.1e} {err_all:8.1e}")
+        verdict = ""
+        if depth in window:
+            cpu_ok = max(abs(flags[0]), abs(flags[2])) <= 0.3
+            user_ok = max(abs(flags[1]), abs(flags[3])) <= 0.3
+            verdict = ("  " + " ".join(f"{100 * x:+.0f}%" for x in flags)
+                       + f"  cpu {'ok' if cpu_ok else 'OUT'}, user {'ok' if user_ok else 'OUT'}")
+        print(f"{depth:5d} {n:8d} | {cols[0]} {cols[1]} {cols[2]}            | {mem_refine:7.0f} {mem_vis:9.0f}"
+              "           | "
+              f"{loop_txt} | {err_exact:9.1e} {err_all:8.1e}{verdict}")
+    if window:
+        print("   median over depths 3-7 [us/patch]: " + ", ".join(
+            f"{w} {1e6 * reference[w]:.3f} (user {1e6 * reference[w, 'user']:.3f})" for w in ("refine", "visualize"))
+            + "; the last columns: each depth's refine CPU, refine user, visualize CPU, visualize user time per "
+            "patch relative to that median, and whether the CPU times and the user times are within 30% of it")
+    print(f"   time: CPU time (user + sys) per patch, the least of {args.rounds} samples taken in rounds over all "
+          "depths (so that a busy moment of the machine hits every depth alike), each sample at least 0.2 s of "
+          "repeated calls, GC off; (sys): its kernel part, mostly the first touch of new memory; user: without it. "
+          "refine: the memory its result will get touched and freed just before (as after any recent work of that "
+          "size); cold: not, the result's memory was freed a round before.  A result above glibc's 32 MiB mmap "
+          "threshold (depth >= 6) is new memory every time, a smaller one reuses freed memory.  On a virtual machine "
+          "that hands freed memory back to its host (virtio-balloon free page reporting), the first touch of "
+          "memory freed seconds before costs about 2 ns per byte (the host backs the pages again), of memory freed "
+          "just before about 0.1 ns: the difference of cold and refine.")
     print("   memory: refine's peak (its result included) and visualize_curvature's peak plus the collection it "
           "colours, per patch; targets: time per patch constant within 30% from depth 3 to 7, <= 1.2 KiB per patch. "
           "err exact: sympy at sampled corners; err all: every corner against the B-spline evaluator.")
+
+
+def interleaved_times(surface, depths, rounds):
+    """``{(work, depth): [(cpu, sys), ...]}`` per call of refine and visualize_curvature, in rounds over the depths.
+
+    ``refine``: its memory touched and freed just before (so the pages it gets are ready); ``cold``: not (a
+    previous sample of the same depth freed it a round before); see :func:`practical_table`.
+    """
+    base = surface.to_bezier_patches()
+    collections = {d: surface.to_bezier_patches().refine(d) for d in depths}
+    times = {(w, d): [] for w in ("refine", "cold", "visualize") for d in depths}
+    for _ in range(rounds):
+        for d in depths:
+            p = collections[d]
+            reps = max(1, int(0.2 / (0.6e-6 * len(p))))  # about 0.2 s of work per sample
+
+            def refine(i, starts, d=d):
+                starts[i] = starts[i].refine(d)
+                starts[i] = None  # the result freed before the next call, as in a session that refines again
+
+            starts = [base.copy() for _ in range(reps)]
+            times["cold", d].append(cpu_sample(lambda i, starts=starts: refine(i, starts), reps))
+            starts = [base.copy() for _ in range(reps)]
+            np.full(72 * len(p), 0.0)  # touched and freed: the memory of the result (512 B per patch) and more
+            times["refine", d].append(cpu_sample(lambda i, starts=starts: refine(i, starts), reps))
+            times["visualize", d].append(
+                cpu_sample(lambda i, p=p: p.visualize_curvature(p.CURVATURE_GAUSSIAN, p.COLOR_MAP_LINEAR), reps))
+    return times
 
 
 def main():
@@ -341,6 +427,7 @@ def main():
     parser.add_argument("--max-depth", type=int, default=7)
     parser.add_argument("--loop-max-depth", type=int, default=4, help="skip the slow per-corner loop above this depth")
     parser.add_argument("--samples", type=int, default=60, help="corners per depth checked against sympy")
+    parser.add_argument("--rounds", type=int, default=9, help="timing samples per depth (rounds over all depths)")
     parser.add_argument("--quick", action="store_true", help="1e5 points, grids up to 225, depths up to 5")
     parser.add_argument("--only", choices=["points", "meshes", "practical"], nargs="+")
     args = parser.parse_args()

@@ -364,6 +364,11 @@ def subdivide(P, u=0.5, v=0.5, weights=None):
     for name, t in (("u", u), ("v", v)):
         if not 0.0 < float(t) < 1.0:
             raise ValueError(f"subdivision parameter {name} must lie strictly between 0 and 1; got {t}")
+    return _subdivide(P, u, v, weights)
+
+
+def _subdivide(P, u, v, weights):
+    """:func:`subdivide` of nets checked before (no input checks: refine calls it on every chunk)."""
     Pw = homogeneous(P, weights)
     lo, hi = split(Pw, u, axis=-3)
     halves_u = np.stack([lo, hi], axis=-4)  # (..., 2, m+1, n+1, d)

@@ -27,21 +27,31 @@ CORNER_V = np.array([[0.0, 1.0], [0.0, 1.0]])
 
 #: Patches per chunk of refine (descendants) and visualize_curvature.
 PATCH_CHUNK = 512
+#: Levels of subdivision per chunk in refine: more levels are done in stages of at most this many.
+LEVELS_PER_CHUNK = 2
 #: Bytes per patch of the stored corner curvature (4 floats) and colours (12 floats).
 PATCH_RESULT_BYTES = 16 * 8
 
 
 def _refine(P, w, grid, num):
-    """``num`` levels of :meth:`BezierPatches.refine`: nets ``(4**num N, ...)`` (and weights), in one pass.
+    """``num`` levels of :meth:`BezierPatches.refine`: nets ``(4**num N, ...)`` (and weights).
 
-    Every patch is subdivided ``num`` times in a row (:func:`lab.bezier.subdivide`,
-    level by level, as refining level by level would), a few patches at a time
-    (about :data:`PATCH_CHUNK` descendants), and its ``2**num x 2**num``
-    descendants are written straight into the result, so no intermediate level
-    is ever held for all patches.  With a grid ``(rows, cols)`` descendant
-    ``(a, b)`` of patch ``(i, j)`` goes to ``(i 2**num + a, j 2**num + b)``;
-    otherwise the descendants of a patch follow it, in the order of the halves.
+    The levels are done in stages of at most :data:`LEVELS_PER_CHUNK` levels
+    (the first stage takes the rest: 7 = 1 + 2 + 2 + 2).  In a stage, every
+    patch is subdivided ``k`` times in a row (:func:`lab.bezier.subdivide`,
+    level by level, as refining level by level would), about
+    :data:`PATCH_CHUNK` descendants at a time, and its ``2**k x 2**k``
+    descendants are written straight into the stage's result.  So every
+    depth does its work in chunks of the same shape (a fixed number of
+    patches and levels: time per patch independent of the depth), and
+    besides the result only the stage before it (1/16 of its size) and one
+    chunk are held.  With a grid ``(rows, cols)`` descendant ``(a, b)`` of
+    patch ``(i, j)`` goes to ``(i 2**k + a, j 2**k + b)``; otherwise the
+    descendants of a patch follow it, in the order of the halves.
     """
+    if num > LEVELS_PER_CHUNK:
+        P, w, grid = _refine(P, w, grid, num - LEVELS_PER_CHUNK)
+        num = LEVELS_PER_CHUNK
     n, f = len(P), 2**num
     tail_P, tail_w = P.shape[1:], None if w is None else w.shape[1:]
     new_P = np.empty((n * f * f,) + tail_P)
@@ -59,7 +69,7 @@ def _refine(P, w, grid, num):
                 sl = slice(i0 * cols + j0, i0 * cols + j1)
             Q, Qw = P[sl], None if w is None else w[sl]
             for _ in range(num):
-                Q, Qw = bezier.subdivide(Q, 0.5, 0.5, Qw)  # (k, 2, 2, ...): the four halves of each
+                Q, Qw = bezier._subdivide(Q, 0.5, 0.5, Qw)  # (k, 2, 2, ...): the four halves of each
                 Q = Q.reshape((-1,) + tail_P)
                 Qw = None if Qw is None else Qw.reshape((-1,) + tail_w)
             for target, src, tail in ((new_P, Q, tail_P), (new_w, Qw, tail_w)):
@@ -273,12 +283,14 @@ class BezierPatches:
 
     def refine_bytes(self, num):
         """Estimated peak memory of :meth:`refine` ``(num)``, in bytes: the new nets and the cleared curvature
-        and colours of the result, the old nets, and the temporaries of one chunk."""
+        and colours of the result, the old nets, the stage before the last (:func:`_refine`) and the
+        temporaries of one chunk."""
         num = _v.as_positive_int(num, "num", minimum=0)
         per_patch = self._P[0].nbytes + (0 if self._w is None else self._w[0].nbytes)
         n_final = len(self) * 4**num
-        chunk = max(PATCH_CHUNK, 4**num) * 16 * per_patch if num else 0
-        return n_final * (per_patch + PATCH_RESULT_BYTES) + len(self) * per_patch + chunk
+        stage = n_final // 4**LEVELS_PER_CHUNK * per_patch if num > LEVELS_PER_CHUNK else 0
+        chunk = max(PATCH_CHUNK, 4 ** min(num, LEVELS_PER_CHUNK)) * 16 * per_patch if num else 0
+        return n_final * (per_patch + PATCH_RESULT_BYTES) + len(self) * per_patch + stage + chunk
 
     def visualize_curvature(self, curvature_mode, color_map, **options):
         """Compute the curvature at every corner and colour it (the practical's task, reference solution).

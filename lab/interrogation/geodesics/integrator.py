@@ -9,21 +9,145 @@ import numpy as np
 from scipy.integrate import DOP853, solve_ivp
 from scipy.optimize import brentq
 
-from .problem import _BOUNDARY, _DEGENERATE, _EPS, _fmt
+from .problem import _BOUNDARY, _CROSS_MARGIN, _DEGENERATE, _EPS, _fmt
 
 # --------------------------------------------------------------------------- dense output
 
 
 class _Pieces:
-    """Continuous state of one path: DOP853 interpolants of its steps (same polynomial as scipy's ``Dop853DenseOutput``)."""
+    """Continuous state of one path: DOP853 interpolants of its steps (same polynomial as scipy's ``Dop853DenseOutput``).
 
-    def __init__(self, t_old, t_hi, h, y_old, F):
-        self.t_old, self.t_hi, self.h, self.y_old, self.F = t_old, t_hi, h, y_old, F
+    ``dense`` holds the steps of all paths integrated together (:class:`_DenseOutput`), ``rows`` this path's.
+    """
+
+    def __init__(self, dense, rows):
+        self._dense, self._rows = dense, rows
+        self.t_old, self.t_hi, self.h, self.y_old = (x[rows] for x in (dense.t_old, dense.t_hi, dense.h, dense.y_old))
+
+    @property
+    def F(self):
+        """Coefficients of the interpolants, (steps, 7, m)."""
+        return self._dense.F[self._rows]
 
     def __call__(self, s):
         s = np.atleast_1d(np.asarray(s, dtype=float))
         i = np.clip(np.searchsorted(self.t_hi, s, side="left"), 0, len(self.t_hi) - 1)
         return _dop853_poly((s - self.t_old[i]) / self.h[i], self.y_old[i], self.F[i])
+
+
+class _DenseOutput:
+    """The accepted steps of the paths integrated together, and the coefficients of their interpolants.
+
+    An interpolant costs three more stages per step (:func:`_dense_coefficients`).
+    They are computed at once for the steps with an event (their roots are found
+    on the interpolant) and, for all other steps of all paths together, only
+    when a path is first evaluated between its steps: the Gauss–Newton
+    iterations of :func:`lab.geodesic_between` look at the end points of most
+    of their paths only.
+    """
+
+    def __init__(self, problem, D):
+        self.problem, self.D = problem, D
+        self._chunks = []
+        self._F = None
+
+    def add(self, paths, t_old, t_hi, h, y_old, y_new, K, cell, F, known):
+        """Record accepted steps of ``paths``; ``F[known]`` are already computed coefficients."""
+        self._chunks.append([paths, t_old, t_hi, h, y_old, y_new, K.swapaxes(0, 1), cell, F, known])
+
+    def pieces(self, n):
+        """The :class:`_Pieces` of paths ``0 … n-1`` (after the integration).
+
+        The steps are put in the order of the paths (and of the steps), each recorded part freed once it is
+        copied, so that at most one part is held twice.
+        """
+        chunks, self._chunks = self._chunks, None
+        paths = np.concatenate([c[0] for c in chunks])
+        order = np.argsort(paths, kind="stable")
+        where = np.empty_like(order)
+        where[order] = np.arange(len(order))  # the sorted position of every recorded step
+        fields = []
+        for k in range(1, len(chunks[0])):
+            out = np.empty((len(paths),) + chunks[0][k].shape[1:], dtype=chunks[0][k].dtype)
+            start = 0
+            for c in chunks:
+                out[where[start : start + len(c[k])]] = c[k]
+                start += len(c[k])
+                c[k] = None
+            fields.append(out)
+        self.t_old, self.t_hi, self.h, self.y_old, y_new, K, cell, F, known = fields
+        self._pending = (F, y_new, K, cell, np.flatnonzero(~known))
+        self._paths = paths[order]
+        bounds = np.concatenate([[0], np.cumsum(np.bincount(paths, minlength=n))])
+        return [_Pieces(self, slice(bounds[j], bounds[j + 1])) for j in range(n)]
+
+    @property
+    def F(self):
+        """Coefficients of the interpolants of all steps, (steps, 7, m), computed on first use."""
+        F, pending = self._F, self._pending  # one read each: paths may be evaluated from several threads
+        if F is not None:
+            return F
+        F, y_new, K, cell, todo = pending  # (two threads at once would write the same values into F)
+        for a in range(0, len(todo), _DENSE_CHUNK):  # in blocks: bounded temporaries
+            rows = todo[a : a + _DENSE_CHUNK]
+            D = None if self.D is None else self.D[self._paths[rows]]
+            F[rows] = _dense_coefficients(self.problem, self.h[rows], self.y_old[rows], y_new[rows],
+                                          K[rows].swapaxes(0, 1), cell[rows], D)
+        self._F = F
+        self._pending = None  # the stages are no longer needed
+        return F
+
+
+#: Steps per block when the interpolants of a fan's steps are computed together (the patch coefficients
+#: gathered for a block take 2.3 KiB per step for bicubic patches).
+_DENSE_CHUNK = 64
+
+
+def _dense_coefficients(problem, h, y_old, y_new, K, cell, D):
+    """Coefficients ``F`` (q, 7, m) of the DOP853 interpolants of q steps from their stages ``K`` (13, q, m).
+
+    The three extra stages of the dense output (as scipy's ``DOP853._dense_output_impl``).
+    """
+    q, m = y_old.shape
+    Kx = np.empty((_N_STAGES + 4, q, m))
+    Kx[: _N_STAGES + 1] = K
+    for s, arow in enumerate(_A_EXTRA, start=_N_STAGES + 1):
+        dy = _combine(arow[:s], Kx) * h[:, None]
+        Kx[s] = problem.rhs(y_old + dy, cell, D)
+    delta = y_new - y_old
+    F = np.empty((q, 7, m))
+    F[:, 0] = delta
+    F[:, 1] = h[:, None] * K[0] - delta
+    F[:, 2] = 2 * delta - h[:, None] * (K[-1] + K[0])
+    F[:, 3:] = h[:, None, None] * (_Dd @ Kx.reshape(len(Kx), -1)).reshape((len(_Dd),) + Kx.shape[1:]).swapaxes(0, 1)
+    return F
+
+
+def _gap_on_step(problem, cell, t0, h, y0, F):
+    """The event function :meth:`_Problem.gap` along one step's interpolant, as a function of s on plain floats.
+
+    The same arithmetic as :func:`_dop853_poly` and :meth:`_Problem.gap` (so the same values to the last
+    bit), without the array overhead: Brent's method calls it about ten times per crossing.
+    """
+    lower, upper = problem._cell_bounds(cell[None])  # not the remembered bounds of the fan's cells
+    (lu, lv), (hu, hv) = lower[0].tolist(), upper[0].tolist()
+    wu, wv = hu - lu, hv - lv
+    Fu, Fv = F[::-1, 0].tolist(), F[::-1, 1].tolist()
+    u0, v0 = float(y0[0]), float(y0[1])
+    odd = [i % 2 == 1 for i in range(len(Fu))]
+
+    def gap(s):
+        x = (s - t0) / h
+        x1 = 1 - x
+        pu = pv = 0.0
+        for fu, fv, o in zip(Fu, Fv, odd):
+            pu, pv = pu + fu, pv + fv
+            f = x1 if o else x
+            pu, pv = pu * f, pv * f
+        u, v = pu + u0, pv + v0
+        return min(min(u - lu, hu - u) / wu, min(v - lv, hv - v) / wv) + _CROSS_MARGIN
+
+    return gap
 
 
 def _dop853_poly(x, y_old, F):
@@ -110,7 +234,7 @@ def _solve_one(problem, y0, cell0, length, D, rtol, atol, method):
 
 _A, _B, _C = DOP853.A, DOP853.B, DOP853.C
 _E3, _E5, _Dd = DOP853.E3, DOP853.E5, DOP853.D
-_A_EXTRA, _C_EXTRA = DOP853.A_EXTRA, DOP853.C_EXTRA
+_A_EXTRA = DOP853.A_EXTRA
 _N_STAGES = DOP853.n_stages
 _ERR_EXP = -1.0 / (DOP853.error_estimator_order + 1)
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
@@ -189,7 +313,7 @@ def _integrate_fan(problem, y0, cell0, length, D, rtol, atol):
     active = np.ones(n, dtype=bool)
     stops = np.zeros(n, dtype=int)
     ends = length.copy()
-    store = [[] for _ in range(n)]  # per path: (t_old, t_hi, h, y_old, F)
+    dense = _DenseOutput(problem, D)
     while np.any(active):
         idx = np.flatnonzero(active)
         ti, yi, fi, ci = t[idx], y[idx], f[idx], cell[idx]
@@ -229,45 +353,39 @@ def _integrate_fan(problem, y0, cell0, length, D, rtol, atol):
         rejected[idx] = ~ok
         if not np.any(ok):
             continue
-        # accepted steps: dense output (3 extra stages), then events
+        # accepted steps: events, and the dense output (3 extra stages) of the steps with one
         a = np.flatnonzero(ok)
-        ia, ha_, ya_old, ya_new, ca = idx[a], h[a], yi[a], y_new[a], ci[a]
-        Da = None if D is None else Dk[a]
-        Kx = np.empty((_N_STAGES + 4, len(a), m))
-        Kx[: _N_STAGES + 1] = K[:, a]
-        for s, (arow, c) in enumerate(zip(_A_EXTRA, _C_EXTRA), start=_N_STAGES + 1):
-            dy = _combine(arow[:s], Kx) * ha_[:, None]
-            Kx[s] = problem.rhs(ya_old + dy, ca, Da)
-        delta = ya_new - ya_old
-        F = np.empty((len(a), 7, m))
-        F[:, 0] = delta
-        F[:, 1] = ha_[:, None] * K[0, a] - delta
-        F[:, 2] = 2 * delta - ha_[:, None] * (K[-1, a] + K[0, a])
-        F[:, 3:] = ha_[:, None, None] * (_Dd @ Kx.reshape(len(Kx), -1)).reshape((len(_Dd),) + Kx.shape[1:]).swapaxes(0, 1)
+        ia, ha_, ya_old, ya_new, ca, Ka = idx[a], h[a], yi[a], y_new[a], ci[a], K[:, a]
         # events as solve_ivp finds them: a sign change from >= 0 to <= 0 over the step (direction -1),
         # its root by Brent's method on the dense output; the earlier of the two terminates the path
         g1_new, g2_new = problem.gap(ya_new, ca), g2_new[a]
         hit1 = (g1[ia] >= 0) & (g1_new <= 0)
         hit2 = (g2[ia] >= 0) & (g2_new <= 0)
+        crossed = hit1 | hit2
         t_old = ti[a]
         t_hi = t_new[a].copy()
         degenerate = np.zeros(len(a), dtype=bool)
-        for r in np.flatnonzero(hit1 | hit2):
+        F = np.empty((len(a), 7, m))
+        if np.any(crossed):
+            rc = np.flatnonzero(crossed)
+            F[rc] = _dense_coefficients(problem, ha_[rc], ya_old[rc], ya_new[rc], Ka[:, rc], ca[rc],
+                                        None if D is None else Dk[a][rc])
+        for r in np.flatnonzero(crossed):
             j = ia[r]
 
             def state_at(tt, t0=t_old[r], h=ha_[r], y0=ya_old[r : r + 1], Fr=F[r : r + 1]):
                 return _dop853_poly(np.array([(tt - t0) / h]), y0, Fr)
 
             roots = [np.inf, np.inf]
-            for e, (hit, func) in enumerate(((hit1, problem.gap), (hit2, problem.regular))):
-                if hit[r]:
-                    roots[e] = brentq(lambda tt, func=func, j=j: func(state_at(tt), cell[j : j + 1])[0],
-                                      t_old[r], t_hi[r], xtol=4 * _EPS, rtol=4 * _EPS)
+            if hit1[r]:
+                roots[0] = brentq(_gap_on_step(problem, cell[j], t_old[r], ha_[r], ya_old[r], F[r]),
+                                  t_old[r], t_hi[r], xtol=4 * _EPS, rtol=4 * _EPS)
+            if hit2[r]:
+                roots[1] = brentq(lambda tt, j=j: problem.regular(state_at(tt), cell[j : j + 1])[0],
+                                  t_old[r], t_hi[r], xtol=4 * _EPS, rtol=4 * _EPS)
             degenerate[r] = roots[1] <= roots[0]
             t_hi[r] = min(roots)
-        crossed = hit1 | hit2
-        for r, j in enumerate(ia):
-            store[j].append((t_old[r], t_hi[r], ha_[r], ya_old[r], F[r]))
+        dense.add(ia, t_old, t_hi, ha_, ya_old, ya_new, Ka, ca, F, crossed)
         # paths without events: advance
         plain = ~crossed
         jp = ia[plain]
@@ -299,10 +417,7 @@ def _integrate_fan(problem, y0, cell0, length, D, rtol, atol):
                 # as a restarted solve_ivp with first_step = the step just taken
                 h_abs[jg] = np.minimum(ha_[rc][go], length[jg] - t[jg])
                 rejected[jg] = False
-    pieces = []
-    for j in range(n):
-        cols = list(zip(*store[j]))
-        pieces.append(_Pieces(*(np.array(c) for c in cols)))
+    pieces = dense.pieces(n)
     return pieces, ends, stops
 
 

@@ -9,10 +9,9 @@ input checks shared by the entry points.
 
 import numpy as np
 
-from ...geometry import bezier
 from ...geometry.curvature import unit_normal
-from ...geometry.derivatives import Derivatives, from_homogeneous
 from ...model.surface import BezierSurface, BSplineSurface, Surface, _SplineSurface
+from .polynomials import _geodesic_rhs_fast, _PatchEvaluator, _regularity_fast
 
 __all__ = ["ATOL", "RTOL", "christoffel", "start_direction"]
 
@@ -184,27 +183,6 @@ def _geodesic_rhs_of(Gamma, y):
     return out
 
 
-def _geodesic_rhs_fast(V, y):
-    r"""Eq. 11 from the stacked vectors ``V = (x_u, x_v, x_uu, x_uv, x_vv)`` (k, 5, 3), in few array operations.
-
-    :math:`(u'', v'') = -g^{-1} h` with :math:`h_l = \sum_{ij} \Gamma_{l,ij}\, u'^i u'^j`, the symbols
-    of the first kind contracted with the velocity before the metric is inverted:
-    the same as :func:`_geodesic_rhs`, with fewer operations per evaluation.
-    """
-    tangents = V[:, :2]
-    g = tangents @ np.swapaxes(tangents, -1, -2)  # (k, 2, 2)
-    p, q = y[:, 2], y[:, 3]
-    w = np.stack([p * p, 2 * p * q, q * q], axis=-1)[:, None, :]  # (k, 1, 3)
-    h = ((w @ V[:, 2:]) @ np.swapaxes(tangents, -1, -2))[:, 0]  # (k, 2): sum_ij w_ij x_ij . x_l
-    E, F, G = g[:, 0, 0], g[:, 0, 1], g[:, 1, 1]
-    det = E * G - F * F
-    out = np.empty_like(y)
-    out[:, :2] = y[:, 2:4]
-    out[:, 2] = (F * h[:, 1] - G * h[:, 0]) / det
-    out[:, 3] = (F * h[:, 0] - E * h[:, 1]) / det
-    return out
-
-
 def _section_rhs(d, D):
     r"""Eq. 7 with the + sign: :math:`(u', v') = (\mathbf x_v\cdot\mathbf D, -\mathbf x_u\cdot\mathbf D)/W`.
 
@@ -226,81 +204,6 @@ def _regularity(d):
 
 
 # --------------------------------------------------------------------------- the surface, patch by patch
-
-
-class _PatchEvaluator:
-    """Derivatives of the Bézier patches of a (rational) B-spline surface at local parameters, extended beyond [0, 1].
-
-    Built from :meth:`lab.BSplineSurface.bezier_nets` (or the one net of a
-    :class:`lab.BezierSurface`).  Each patch is converted once from the
-    Bernstein to the monomial basis in its local parameters ``(s, t)``, so that
-    all six fields ``b, bu, bv, buu, buv, bvv`` come from one tensor
-    contraction; being a polynomial (in homogeneous coordinates), a patch
-    continues smoothly a little outside its span.  Chain rule: ``d/du = (1/h_u) d/ds``.
-    """
-
-    def __init__(self, nets, weights, widths_u, widths_v):
-        Pw = bezier.homogeneous(nets, weights)
-        self.rational = weights is not None
-        p, q = Pw.shape[-3] - 1, Pw.shape[-2] - 1
-        self.coeffs = np.einsum("ik,jl,...ijd->...kld", _bernstein_to_monomial(p), _bernstein_to_monomial(q), Pw)
-        self.powers = (np.arange(p + 1), np.arange(q + 1))
-        self.inv_widths = (1.0 / widths_u, 1.0 / widths_v)
-
-    @staticmethod
-    def _basis(x, k, inv_width):
-        """Rows (x^k, d/du x^k, d²/du² x^k) for local parameters x: shape (n, 3, len(k))."""
-        n, m = len(x), len(k)
-        out = np.zeros((n, 3, m))
-        powers = out[:, 0]
-        powers[:, 0] = 1.0
-        if m > 1:
-            powers[:, 1:] = x[:, None]
-            np.cumprod(powers, axis=1, out=powers)  # x^0, x^1, ..., x^p without pow()
-        out[:, 1, 1:] = k[1:] * powers[:, :-1] * inv_width[:, None]
-        out[:, 2, 2:] = k[2:] * (k[2:] - 1) * powers[:, :-2] * (inv_width * inv_width)[:, None]
-        return out
-
-    def table(self, iu, iv, su, sv):
-        """All mixed derivatives up to order 2 in each direction: ``(k, 3, 3, d)``, ``[:, du, dv]`` (homogeneous)."""
-        if len(self.powers[0]) == len(self.powers[1]):  # equal degrees: both directions in one go
-            both = self._basis(np.concatenate([su, sv]), self.powers[0],
-                               np.concatenate([self.inv_widths[0][iu], self.inv_widths[1][iv]]))
-            Su, Sv = both[: len(su)], both[len(su):]
-        else:
-            Su = self._basis(su, self.powers[0], self.inv_widths[0][iu])
-            Sv = self._basis(sv, self.powers[1], self.inv_widths[1][iv])
-        C = self.coeffs[iu, iv]  # (k, p+1, q+1, d)
-        k, p1, q1, d = C.shape
-        T = np.matmul(Su, C.reshape(k, p1, q1 * d)).reshape(k, 3, q1, d)  # over i: (k, du, j, c)
-        return np.matmul(Sv[:, None], T)  # over j: (k, du, dv, c), two batched small products
-
-    def __call__(self, iu, iv, su, sv):
-        X = self.table(iu, iv, su, sv)
-        d = Derivatives(X[:, 0, 0], X[:, 1, 0], X[:, 0, 1], X[:, 2, 0], X[:, 1, 1], X[:, 0, 2])
-        return from_homogeneous(d) if self.rational else d
-
-    def vectors(self, iu, iv, su, sv):
-        """``x_u, x_v, x_uu, x_uv, x_vv`` stacked: ``(k, 5, 3)`` (what the geodesic equation needs)."""
-        if self.rational:
-            d = self(iu, iv, su, sv)
-            return np.stack([d.bu, d.bv, d.buu, d.buv, d.bvv], axis=1)
-        return self.table(iu, iv, su, sv)[:, _VECTOR_DU, _VECTOR_DV]
-
-
-#: (du, dv) of x_u, x_v, x_uu, x_uv, x_vv in a derivative table.
-_VECTOR_DU, _VECTOR_DV = np.array([1, 0, 2, 1, 0]), np.array([0, 1, 0, 1, 2])
-
-
-def _bernstein_to_monomial(n):
-    """Matrix M with B_i^n(t) = sum_k M[i, k] t^k."""
-    from math import comb
-
-    M = np.zeros((n + 1, n + 1))
-    for i in range(n + 1):
-        for k in range(i, n + 1):
-            M[i, k] = comb(n, i) * comb(n - i, k - i) * (-1) ** (k - i)
-    return M
 
 
 class _Problem:
@@ -359,7 +262,10 @@ class _Problem:
         return self._cell_data(cell)[:2]
 
     def _cell_data(self, cell):
-        """``(lower, upper, span, 1 / width)`` of the cells, remembered for the last cells asked for."""
+        """``(lower, upper, span, 1 / width, C)`` of the cells, remembered for the last cells asked for.
+
+        ``C``: the patches' coefficient blocks for eq. 11 (:attr:`_PatchEvaluator.vector_coeffs`), or None.
+        """
         key = (cell.shape, cell.tobytes())
         cached = self._bounds_cache  # one read: the problem is shared between threads (explorers)
         if cached[0] == key:
@@ -369,7 +275,10 @@ class _Problem:
         for axis in range(2):
             if self.periodic[axis]:
                 span[:, axis] = np.mod(cell[:, axis], self.n_spans[axis])
-        data = (lower, upper, span, 1.0 / (upper - lower))
+        C = None
+        if self.kind == GEODESIC and self.patches is not None:
+            C = self.patches.vector_coeffs[span[:, 0], span[:, 1]]
+        data = (lower, upper, span, 1.0 / (upper - lower), C)
         self._bounds_cache = (key, data)
         return data
 
@@ -417,6 +326,9 @@ class _Problem:
         It becomes negative just before a degenerate point (a sphere's pole),
         where the Christoffel symbols and eq. 7 are singular.
         """
+        V = self._fast_vectors(y, cell)
+        if V is not None:  # as rhs(..., regular=True) computes it, so that the two agree to the last bit
+            return _regularity_fast(V) - _DEGENERATE_STOP
         return _regularity(self.derivatives(y[:, :2], cell)) - _DEGENERATE_STOP
 
     def cross(self, y, cell):
@@ -457,17 +369,24 @@ class _Problem:
 
         With ``regular=True`` also the second event function :meth:`regular` at the same points.
         """
-        if self.kind == GEODESIC and not regular and self.patches is not None and np.isfinite(y).all():
-            # the common case, in as few array operations as possible: patch polynomials -> eq. 11
-            span, local = self._local(y[:, :2], cell)
-            return _geodesic_rhs_fast(self.patches.vectors(span[:, 0], span[:, 1], *local.T), y)
+        V = self._fast_vectors(y, cell)
+        if V is not None:  # the common case, in as few array operations as possible: patch polynomials -> eq. 11
+            f = _geodesic_rhs_fast(V, y, regular)
+            return (f[0], f[1] - _DEGENERATE_STOP) if regular else f
         d = self.derivatives(y[:, :2], cell)
         f = _geodesic_rhs(d, y) if self.kind == GEODESIC else _section_rhs(d, D)
         return (f, _regularity(d) - _DEGENERATE_STOP) if regular else f
 
+    def _fast_vectors(self, y, cell):
+        """``x_u, x_v, x_uu, x_uv, x_uv, x_vv`` (k, 6, 3) from the patch polynomials for geodesics, else None."""
+        if self.kind != GEODESIC or self.patches is None or not np.isfinite(y[:, :2]).all():
+            return None
+        lower, _, _, inv_width, C = self._cell_data(cell)
+        return self.patches.vectors(C, (y[:, :2] - lower) * inv_width)
+
     def _local(self, uv, cell):
         """The patch (span index per direction) of each cell and the local parameters in it."""
-        lower, _, span, inv_width = self._cell_data(cell)
+        lower, _, span, inv_width, _ = self._cell_data(cell)
         return span, (uv - lower) * inv_width
 
     def tangent(self, y, D=None):
