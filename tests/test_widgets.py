@@ -327,7 +327,7 @@ def test_geodesic_explorer_recomputes_only_what_changed():
 
 def test_geodesic_explorer_old_count_keyword_still_works():
     with pytest.warns(DeprecationWarning, match=r"count=…\) is deprecated: the number of isodistance curves is now n_curves"):
-        g = GeodesicExplorer(surfaces.plane(4.0), start=(0.5, 0.5), n_angles=6, step=0.5, n_curves=2, live=False)
+        g = GeodesicExplorer(surfaces.plane(4.0), start=(0.5, 0.5), n_angles=6, step=0.5, count=2, live=False)
     assert len(g.isodistance) == 2 and len(g.fan) == 6
 
 
