@@ -270,6 +270,19 @@ def view_frame(explorer):
     return handle.content_frame()
 
 
+def choose(explorer, value):
+    """Choose ``value`` in the explorer's primary dropdown from page script; returns the browser time of the change."""
+    return explorer.locator(".lab-primary-control select").evaluate(
+        """(sel, value) => {
+            const i = Array.from(sel.options).findIndex(o => o.value === value);
+            if (i < 0) throw new Error(`no option ${value}`);
+            sel.selectedIndex = i;
+            const t0 = performance.timeOrigin + performance.now();
+            sel.dispatchEvent(new Event('change', {bubbles: true}));
+            return t0;
+        }""", value)
+
+
 def frames_after(frame, t0):
     """Times (ms) of the pictures drawn in ``frame`` after ``t0``."""
     return frame.evaluate("(t0) => (window.__labFrames || []).filter(t => t > t0)", t0)

@@ -291,7 +291,7 @@ class Explorer:
 
     def _run(self, action):
         """Run ``action`` to its end now (plain or async), timed, errors in the status line."""
-        for _ in self._steps(action):
+        for _step in self._steps(action):
             pass
 
     def _steps(self, action):
