@@ -9,8 +9,9 @@ colour change of the first ``CurvatureExplorer`` (colour map h∘f2 linear ↔ s
 the change in the browser to the last picture drawn in the view once nothing more is drawn for 1.5 s
 (``FRAME_COUNTER_JS`` of ``tests/browser_support.py``, as in ``benchmarks/browser.py``):
 
-* all at once: every student changes the colour map at the same moment (``--repeats`` rounds), the
-  worst case of a class that clicks together;
+* all at once: every student changes the colour map at the same moment (``--repeats`` rounds; the
+  changes go out one after the other from this script, "changes within" says how close), the worst
+  case of a class that clicks together;
 * one at a time: one student changes it while the others' explorers sit live and idle.
 
 It stops after the step whose median colour change (all at once) exceeds 1 s, or when the machine's
@@ -122,11 +123,13 @@ def settle_all(students, starts, timeout=60.0):
 
 
 def all_at_once(students, repeats):
-    values = []
+    """Latencies of every student's change, and how far apart the first and last change of each round were (ms)."""
+    values, spreads = [], []
     for _ in range(repeats):
         starts = [s.change() for s in students]
+        spreads.append(max(starts) - min(starts))
         values += settle_all(students, starts)
-    return values
+    return values, spreads
 
 
 def one_at_a_time(students, repeats):
@@ -174,8 +177,14 @@ def percentile(values, q):
     return values[min(len(values) - 1, max(0, math.ceil(q * len(values)) - 1))]
 
 
-HEAD = ("| students | all at once: median ms | p90 ms | one at a time: median ms | kernels | kernel RSS MiB "
-        "| servers RSS MiB | Chromium PSS MiB | load 1 / 5 min |")
+HEAD = ("| students | all at once: median ms | p90 ms | changes within ms | one at a time: median ms | kernels "
+        "| kernel RSS MiB | servers RSS MiB | Chromium PSS MiB | load 1 / 5 min |")
+
+
+def _row(row):
+    size, med, p90, spread, single, kernels, kmib, smib, cmib, load = row
+    return (f"| {size} | {med:.0f} | {p90:.0f} | {spread:.0f} | {single:.0f} | {kernels} | {kmib:.0f} | {smib:.0f} "
+            f"| {cmib:.0f} | {load[0]:.1f} / {load[1]:.1f} |")
 
 
 def main(argv=None):
@@ -210,18 +219,17 @@ def main(argv=None):
                 for s in students:
                     wait_quiet(s.frame)
                 say(f"{size} students: measuring")
-                together = all_at_once(students, args.repeats)
+                together, spreads = all_at_once(students, args.repeats)
                 single = one_at_a_time(students, args.repeats)
                 kernels, kernel_mib, server_mib, chromium_mib = memory(hub, os.getpid())
                 load = os.getloadavg()
                 missed = sum(math.isnan(v) for v in together + single)
                 if missed:
                     say(f"{missed} colour changes never settled within 60 s (left out); see {root / 'shots'}")
-                row = (size, median(together), percentile(together, 0.9), median(single),
+                row = (size, median(together), percentile(together, 0.9), median(spreads), median(single),
                        kernels, kernel_mib, server_mib, chromium_mib, load)
                 rows.append(row)
-                say(f"| {size} | {row[1]:.0f} | {row[2]:.0f} | {row[3]:.0f} | {kernels} | {kernel_mib:.0f} | "
-                    f"{server_mib:.0f} | {chromium_mib:.0f} | {load[0]:.1f} / {load[1]:.1f} |")
+                say(_row(row))
                 if row[1] > LIMIT_MS:
                     stopped = f"stopped: the median colour change of {size} students exceeds {LIMIT_MS:.0f} ms"
                     break
@@ -233,12 +241,11 @@ def main(argv=None):
           f"{time.strftime('%Y-%m-%d %H:%M')}, {(time.time() - began) / 60:.0f} min; colour change of notebook 05's "
           f"CurvatureExplorer (depth 2), {args.repeats} rounds\n")
     print(HEAD)
-    print("|---:" * 9 + "|")
-    for size, med, p90, single, kernels, kmib, smib, cmib, load in rows:
-        print(f"| {size} | {med:.0f} | {p90:.0f} | {single:.0f} | {kernels} | {kmib:.0f} | {smib:.0f} | {cmib:.0f} "
-              f"| {load[0]:.1f} / {load[1]:.1f} |")
+    print("|---:" * HEAD.count(" | ") + "|---:|")
+    for row in rows:
+        print(_row(row))
     if rows:
-        size, kmib, smib = rows[-1][0], rows[-1][5], rows[-1][6]
+        size, kmib, smib = rows[-1][0], rows[-1][6], rows[-1][7]
         print(f"\nper student: kernel {kmib / size:.0f} MiB, single-user server {smib / size:.0f} MiB "
               f"(largest class measured: {size})")
     if stopped:
