@@ -9,9 +9,9 @@ colour change of the first ``CurvatureExplorer`` (colour map h∘f2 linear ↔ s
 the change in the browser to the last picture drawn in the view once nothing more is drawn for 1.5 s
 (``FRAME_COUNTER_JS`` of ``tests/browser_support.py``, as in ``benchmarks/browser.py``):
 
-* all at once: every student changes the colour map at the same moment (``--repeats`` rounds; the
-  changes go out one after the other from this script, "changes within" says how close), the worst
-  case of a class that clicks together;
+* all at once: every student changes the colour map at the same moment (``--repeats`` rounds; each
+  page is told to change at the same time on the browser's clock, "changes within" says how close the
+  changes came), the worst case of a class that clicks together;
 * one at a time: one student changes it while the others' explorers sit live and idle.
 
 It stops after the step whose median colour change (all at once) exceeds 1 s, or when the machine's
@@ -38,7 +38,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tests.browser_support import (  # noqa: E402
-    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, choose, frames_after, process_rss_mb, view_frame, wait_quiet,
+    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, choose, chosen_at, frames_after, now_ms, process_rss_mb,
+    view_frame, wait_quiet,
 )
 from tests.hub_support import PROXY, descendants, hub_processes, jupyterhub, login  # noqa: E402
 
@@ -58,10 +59,10 @@ class Student:
     explorer: object
     frame: object
 
-    def change(self):
-        """Switch the colour map to the other of ``MAPS``; returns the browser time of the change."""
+    def change(self, at=None):
+        """Switch the colour map to the other of ``MAPS`` (now, or at browser time ``at``: see ``choose``)."""
         current = self.explorer.locator(".lab-primary-control select").evaluate("s => s.value")
-        return choose(self.explorer, MAPS[1] if current == MAPS[0] else MAPS[0])
+        return choose(self.explorer, MAPS[1] if current == MAPS[0] else MAPS[0], at)
 
 
 def say(text):
@@ -126,7 +127,11 @@ def all_at_once(students, repeats):
     """Latencies of every student's change, and how far apart the first and last change of each round were (ms)."""
     values, spreads = [], []
     for _ in range(repeats):
-        starts = [s.change() for s in students]
+        # every page is told to change at the same browser time, far enough ahead for all of them to hear it
+        at = now_ms(students[0].nb.page) + 500 + 300 * len(students)
+        for s in students:
+            s.change(at)
+        starts = [chosen_at(s.explorer) for s in students]
         spreads.append(max(starts) - min(starts))
         values += settle_all(students, starts)
     return values, spreads
