@@ -16,9 +16,13 @@ the change in the browser to the last picture drawn in the view once nothing mor
 
 It stops after the step whose median colour change (all at once) exceeds 1 s, or when the machine's
 available memory runs short.  Memory is the resident memory (VmRSS, from /proc) of all kernels and of
-all single-user servers started by the hub; Chromium's is its proportional set size (PSS).  Everything runs on this
-one machine: the students' browsers (software WebGL) take CPU from the kernels, which on a real hub
-run on the students' own computers, so the latencies here are pessimistic.
+all single-user servers started by the hub; Chromium's is its proportional set size (PSS).  The CPU
+time (from /proc) that the all-at-once rounds cost, per colour change, is split into the kernels, the
+hub's side (hub, configurable-http-proxy, single-user servers with jupyter-server-proxy) and Chromium;
+it includes what runs anyway during the rounds (JupyterLab's polling, this script's polling of the pages).
+
+Everything runs on this one machine: the students' browsers (software WebGL) run here and take CPU from
+the kernels; on a real hub they run on the students' own computers, so the latencies here are pessimistic.
 
 Usage: python benchmarks/hub_load.py [--max 12] [--repeats 10] [--min-free 3] [--keep DIR]
 """
@@ -38,8 +42,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tests.browser_support import (  # noqa: E402
-    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, choose, chosen_at, frames_after, now_ms, process_rss_mb,
-    view_frame, wait_quiet,
+    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, choose, chosen_at, frames_after, now_ms, process_cpu_seconds,
+    process_rss_mb, view_frame, wait_quiet,
 )
 from tests.hub_support import PROXY, descendants, hub_processes, jupyterhub, login  # noqa: E402
 
@@ -152,6 +156,20 @@ def memory(hub, browser_root):
             sum(process_rss_mb(p) for p in procs["servers"]), sum(_pss_mib(p) for p in chromium))
 
 
+def cpu_seconds(hub, browser_root):
+    """CPU seconds used so far by the kernels, the hub's side (hub, proxy, single-user servers) and Chromium."""
+    kernels = set(hub_processes(hub)["kernels"])
+    groups = {"kernels": 0.0, "hub side": 0.0, "browser": 0.0}
+    for pid in [hub.pid] + descendants(hub.pid) + [p for p in descendants(browser_root) if _is_chromium(p)]:
+        try:
+            used = process_cpu_seconds(pid)
+        except (OSError, IndexError, ValueError):
+            continue
+        group = "kernels" if pid in kernels else "browser" if _is_chromium(pid) else "hub side"
+        groups[group] += used
+    return groups
+
+
 def _pss_mib(pid):
     """Proportional set size (MiB): Chromium's many processes share much of their memory, RSS would count it again."""
     try:
@@ -182,14 +200,15 @@ def percentile(values, q):
     return values[min(len(values) - 1, max(0, math.ceil(q * len(values)) - 1))]
 
 
-HEAD = ("| students | all at once: median ms | p90 ms | changes within ms | one at a time: median ms | kernels "
-        "| kernel RSS MiB | servers RSS MiB | Chromium PSS MiB | load 1 / 5 min |")
+HEAD = ("| students | all at once: median ms | p90 ms | changes within ms | one at a time: median ms "
+        "| CPU ms per change: kernel / hub side / browser | kernels | kernel RSS MiB | servers RSS MiB "
+        "| Chromium PSS MiB | load 1 / 5 min |")
 
 
 def _row(row):
-    size, med, p90, spread, single, kernels, kmib, smib, cmib, load = row
-    return (f"| {size} | {med:.0f} | {p90:.0f} | {spread:.0f} | {single:.0f} | {kernels} | {kmib:.0f} | {smib:.0f} "
-            f"| {cmib:.0f} | {load[0]:.1f} / {load[1]:.1f} |")
+    size, med, p90, spread, single, cpu, kernels, kmib, smib, cmib, load = row
+    return (f"| {size} | {med:.0f} | {p90:.0f} | {spread:.0f} | {single:.0f} | {' / '.join(f'{c:.0f}' for c in cpu)} "
+            f"| {kernels} | {kmib:.0f} | {smib:.0f} | {cmib:.0f} | {load[0]:.1f} / {load[1]:.1f} |")
 
 
 def main(argv=None):
@@ -224,14 +243,18 @@ def main(argv=None):
                 for s in students:
                     wait_quiet(s.frame)
                 say(f"{size} students: measuring")
+                before = cpu_seconds(hub, os.getpid())
                 together, spreads = all_at_once(students, args.repeats)
+                after = cpu_seconds(hub, os.getpid())
+                changes = args.repeats * size
+                cpu = [1000 * (after[g] - before[g]) / changes for g in ("kernels", "hub side", "browser")]
                 single = one_at_a_time(students, args.repeats)
                 kernels, kernel_mib, server_mib, chromium_mib = memory(hub, os.getpid())
                 load = os.getloadavg()
                 missed = sum(math.isnan(v) for v in together + single)
                 if missed:
                     say(f"{missed} colour changes never settled within 60 s (left out); see {root / 'shots'}")
-                row = (size, median(together), percentile(together, 0.9), median(spreads), median(single),
+                row = (size, median(together), percentile(together, 0.9), median(spreads), median(single), cpu,
                        kernels, kernel_mib, server_mib, chromium_mib, load)
                 rows.append(row)
                 say(_row(row))
@@ -250,7 +273,7 @@ def main(argv=None):
     for row in rows:
         print(_row(row))
     if rows:
-        size, kmib, smib = rows[-1][0], rows[-1][6], rows[-1][7]
+        size, kmib, smib = rows[-1][0], rows[-1][7], rows[-1][8]
         print(f"\nper student: kernel {kmib / size:.0f} MiB, single-user server {smib / size:.0f} MiB "
               f"(largest class measured: {size})")
     if stopped:
