@@ -45,26 +45,13 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tests.browser_support import (  # noqa: E402
-    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, jupyterlab, kernel_value, now_ms, restart_kernel, settle_time,
-    view_frame, wait_quiet, write_notebook,
+    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, choose, jupyterlab, kernel_value, now_ms, restart_kernel,
+    settle_time, view_frame, wait_quiet, write_notebook,
 )
 
 TARGETS = {"colour change": ("≤", 250.0), "depth → 5 (first)": ("≤", 800.0), "depth → 5 (cached)": ("≤", 250.0),
            "40 geodesics": ("≤", 1000.0), "camera drag": ("≥", 15.0)}
 UNITS = {"camera drag": "frames/s", "camera drag, depth 5": "frames/s"}
-
-
-def _select(explorer, label):
-    """Choose ``label`` in the explorer's primary dropdown from page script; returns the browser time of the change."""
-    return explorer.locator(".lab-primary-control select").evaluate(
-        """(sel, label) => {
-            const i = Array.from(sel.options).findIndex(o => o.value === label);
-            if (i < 0) throw new Error(`no option ${label}`);
-            sel.selectedIndex = i;
-            const t0 = performance.timeOrigin + performance.now();
-            sel.dispatchEvent(new Event('change', {bubbles: true}));
-            return t0;
-        }""", label)
 
 
 def _drag_slider(page, explorer, selector, fraction):
@@ -146,7 +133,7 @@ def measure(browser, backend, repeat, workdir):
         rows["camera drag"] = [d[0] for d in drags]
         rows["drag lag"] = [d[1] for d in drags]
         maps = ["signed log", "h∘f2 linear (min/max)"]
-        timed("colour change", lambda k: _select(curv, maps[k % 2]), fc)
+        timed("colour change", lambda k: choose(curv, maps[k % 2]), fc)
         kernel_value(nb, "e.depth.value")
 
         def depth_first(k):

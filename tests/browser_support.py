@@ -270,6 +270,41 @@ def view_frame(explorer):
     return handle.content_frame()
 
 
+def choose(explorer, value, at=None):
+    """Choose ``value`` in the explorer's primary dropdown from page script; returns the browser time of the change.
+
+    With ``at`` (a browser time, ms since the epoch) the page makes the change then and this returns None at once;
+    :func:`chosen_at` reads the time of the change afterwards (several pages can change at the same moment).
+    """
+    return explorer.locator(".lab-primary-control select").evaluate(
+        """(sel, [value, at]) => {
+            const i = Array.from(sel.options).findIndex(o => o.value === value);
+            if (i < 0) throw new Error(`no option ${value}`);
+            const change = () => {
+                sel.selectedIndex = i;
+                const t0 = performance.timeOrigin + performance.now();
+                sel.dispatchEvent(new Event('change', {bubbles: true}));
+                window.__labChosenAt = t0;
+                return t0;
+            };
+            if (at === null) return change();
+            window.__labChosenAt = null;
+            setTimeout(change, Math.max(0, at - (performance.timeOrigin + performance.now())));
+            return null;
+        }""", [value, at])
+
+
+def chosen_at(explorer, timeout=60.0):
+    """The browser time of the change that :func:`choose` scheduled with ``at`` (waits until it happened)."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        t0 = explorer.page.evaluate("() => window.__labChosenAt")
+        if t0 is not None:
+            return t0
+        time.sleep(0.05)
+    raise TimeoutError("the scheduled change did not happen")
+
+
 def frames_after(frame, t0):
     """Times (ms) of the pictures drawn in ``frame`` after ``t0``."""
     return frame.evaluate("(t0) => (window.__labFrames || []).filter(t => t > t0)", t0)

@@ -8,22 +8,17 @@ changes with its control, and that the two students' views and kernels are indep
 the browser makes goes to the hub's port.
 """
 
-import contextlib
 import os
 import shutil
-import socket
 import subprocess
-import sys
 import time
-from pathlib import Path
 from urllib.parse import urlsplit
 
 import pytest
 
-from .browser_support import CHROMIUM, CHROMIUM_ARGS, PANEL, Notebook, coverage, free_port
+from .browser_support import CHROMIUM, CHROMIUM_ARGS, Notebook, coverage
+from .hub_support import PROXY, ROOT, jupyterhub, login
 
-ROOT = Path(__file__).resolve().parent.parent
-PROXY = ROOT / ".venv" / "node" / "node_modules" / ".bin" / "configurable-http-proxy"
 NOTEBOOK = "05_visualize_curvature.ipynb"
 STUDENTS = ("ada", "bob")
 
@@ -31,70 +26,6 @@ pytestmark = [
     pytest.mark.skipif(os.environ.get("LAB_SKIP_BROWSER") == "1", reason="LAB_SKIP_BROWSER=1"),
     pytest.mark.skipif(not PROXY.exists(), reason="configurable-http-proxy is not installed (make test installs it)"),
 ]
-
-CONFIG = """
-import os, sys
-c = get_config()
-c.JupyterHub.ip = "127.0.0.1"
-c.JupyterHub.port = {port}
-c.JupyterHub.hub_ip = "127.0.0.1"
-c.JupyterHub.hub_port = {hub_port}
-c.ConfigurableHTTPProxy.api_url = "http://127.0.0.1:{api_port}"
-c.ConfigurableHTTPProxy.command = [{proxy!r}]
-c.JupyterHub.authenticator_class = "dummy"
-c.DummyAuthenticator.password = "lab"
-c.Authenticator.allow_all = True
-c.JupyterHub.spawner_class = "simple"
-c.SimpleLocalProcessSpawner.home_dir_template = {home!r} + "/{{username}}"
-c.Spawner.cmd = [os.path.join(os.path.dirname(sys.executable), "jupyterhub-singleuser")]
-c.Spawner.args = ["--allow-root", "--LabApp.expose_app_in_browser=True", "--LabApp.user_settings_dir=" + {settings!r}]
-c.Spawner.default_url = "/lab"
-c.Spawner.env_keep = ["PATH", "LANG", "VTK_DEFAULT_OPENGL_WINDOW", "PYTHONPATH"]
-c.Spawner.start_timeout = 180
-c.Spawner.http_timeout = 180
-c.JupyterHub.db_url = "sqlite:///" + {db!r}
-c.JupyterHub.cookie_secret_file = {secret!r}
-c.ConfigurableHTTPProxy.pid_file = {pid!r}
-"""
-
-
-@contextlib.contextmanager
-def jupyterhub(root):
-    port, hub_port, api_port = free_port(), free_port(), free_port()
-    home, settings = root / "home", root / "settings" / "@jupyterlab" / "notebook-extension"
-    settings.mkdir(parents=True)
-    (settings / "tracker.jupyterlab-settings").write_text('{"windowingMode": "none"}')
-    for user in STUDENTS:
-        (home / user).mkdir(parents=True)
-        shutil.copy(ROOT / "solutions" / "en" / NOTEBOOK, home / user / NOTEBOOK)
-    config = root / "jupyterhub_config.py"
-    config.write_text(CONFIG.format(port=port, hub_port=hub_port, api_port=api_port, proxy=str(PROXY), home=str(home),
-                                    settings=str(root / "settings"), db=str(root / "hub.sqlite"),
-                                    secret=str(root / "cookie_secret"), pid=str(root / "proxy.pid")))
-    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTEST_XDIST_WORKER", "JUPYTERHUB_SERVICE_PREFIX")}
-    env["PATH"] = f"{Path(sys.executable).parent}:{env.get('PATH', '')}"
-    log = open(root / "hub.log", "w")
-    proc = subprocess.Popen([str(Path(sys.executable).parent / "jupyterhub"), "-f", str(config)], cwd=root, env=env,
-                            stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
-    try:
-        deadline = time.time() + 120
-        while time.time() < deadline:
-            with contextlib.suppress(OSError):
-                socket.create_connection(("127.0.0.1", port), timeout=1).close()
-                break
-            if proc.poll() is not None:
-                raise RuntimeError(f"jupyterhub exited; see {log.name}")
-            time.sleep(0.5)
-        yield f"http://127.0.0.1:{port}"
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(proc.pid, 9)  # the proxy and the single-user servers
-        log.close()
 
 
 def settled(nb, explorer, timeout=60):
@@ -110,20 +41,10 @@ def settled(nb, explorer, timeout=60):
     return last
 
 
-def login(context, hub, user):
-    page = context.new_page()
-    page.goto(f"{hub}/hub/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", "lab")
-    page.click("input[type=submit], button[type=submit]")
-    page.wait_for_url(f"**/user/{user}/**", timeout=240_000)
-    return page
-
-
 @pytest.fixture(scope="module")
 def hub(tmp_path_factory):
     root = tmp_path_factory.mktemp("hub")
-    with jupyterhub(root) as url:
+    with jupyterhub(root, STUDENTS, [ROOT / "solutions" / "en" / NOTEBOOK]) as (url, _process):
         yield url, root
 
 

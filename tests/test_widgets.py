@@ -211,6 +211,39 @@ def test_static_bundle_without_a_jupyter_session(monkeypatch):
     assert "application/vnd.jupyter.widget-view+json" in live and "image/png" not in live  # no render in the kernel
 
 
+
+def test_without_jupyter_server_proxy_a_hub_student_gets_pictures_and_the_reason(monkeypatch):
+    """Under JupyterHub the live view needs jupyter-server-proxy; without it: static pictures, and the status says
+    why and what to install."""
+    import sys
+
+    from lab import i18n
+
+    for name in ("LAB_STATIC", "LAB_GRADING", "PYVISTA_TRAME_SERVER_PROXY_PREFIX"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("LAB_INTERACTIVE", "1")  # a Jupyter session
+    monkeypatch.setenv("JUPYTERHUB_SERVICE_PREFIX", "/user/ada/")
+    assert base.live_view_choice() == (True, None)  # the proxy is installed here
+    monkeypatch.setitem(sys.modules, "jupyter_server_proxy", None)  # now it cannot be imported
+    with i18n.using("en"):
+        e = CurvatureExplorer(surfaces.saddle(), depth=1)  # live=None: the explorer decides
+        assert e.live is False
+        view = e.widget.children[2]
+        assert isinstance(view, W.Image) and "lab-static-view" in view._dom_classes
+        says_why = ("live 3D view unavailable: behind JupyterHub or a proxy the view needs jupyter-server-proxy "
+                    "(pip install jupyter-server-proxy, then restart the server); showing pictures")
+        assert says_why in e.status.value
+        e.color_map.value = "symmetric"  # an action that ends without a note of its own: the reason stays
+        assert says_why in e.status.value
+    with i18n.using("de"):
+        live, why = base.live_view_choice()
+    assert not live and "nicht verfügbar" in why and "pip install jupyter-server-proxy" in why
+    monkeypatch.delenv("JUPYTERHUB_SERVICE_PREFIX")
+    assert base.live_view_choice() == (True, None)  # a local JupyterLab needs no proxy
+    monkeypatch.setenv("PYVISTA_TRAME_SERVER_PROXY_PREFIX", "/proxy/")  # a remote Jupyter does
+    assert base.live_view_choice()[0] is False
+    e.close()
+
 def test_widget_layout_fills_the_output():
     e = CurvatureExplorer(surfaces.saddle(), live=False, depth=1)
     w = e.widget

@@ -36,6 +36,7 @@ import asyncio
 import base64
 import collections
 import html
+import importlib.util
 import io
 import os
 import threading
@@ -58,7 +59,8 @@ from .live import rendering as _rendering
 from .live import show as _show_live
 from .live import update as _update_live
 
-__all__ = ["Explorer", "live_view_possible", "in_jupyter_session", "callback_threads", "checkpoint"]
+__all__ = ["Explorer", "live_view_choice", "live_view_possible", "in_jupyter_session", "callback_threads",
+           "checkpoint"]
 
 _INSTANCES = weakref.WeakSet()
 _BY_CELL = {}  # cell id -> (execution count, [weakref to explorer, ...])
@@ -99,11 +101,27 @@ def in_jupyter_session():
     return shell is not None and type(shell).__name__ == "ZMQInteractiveShell" and "JPY_SESSION_NAME" in os.environ
 
 
+def live_view_choice():
+    """``(live, why)``: whether an explorer made with ``live=None`` shows a live view here, and if not, why.
+
+    Static without a note outside a Jupyter session (nbconvert, grading) or with ``LAB_STATIC=1``.  Static
+    with a note when the view would have to go through jupyter-server-proxy (under JupyterHub,
+    ``JUPYTERHUB_SERVICE_PREFIX``, or with ``PYVISTA_TRAME_SERVER_PROXY_PREFIX``: the browser reaches only
+    the Jupyter server) and the package is not importable in the kernel's environment.  That is the
+    server's environment in the lab's image and venv; a server that runs elsewhere is not asked.
+    """
+    if os.environ.get("LAB_STATIC") == "1" or os.environ.get("LAB_GRADING") == "1" or not in_jupyter_session():
+        return False, None
+    behind_proxy = os.environ.get("JUPYTERHUB_SERVICE_PREFIX") or os.environ.get("PYVISTA_TRAME_SERVER_PROXY_PREFIX")
+    if behind_proxy and importlib.util.find_spec("jupyter_server_proxy") is None:
+        return False, _("live 3D view unavailable: behind JupyterHub or a proxy the view needs jupyter-server-proxy "
+                        "(pip install jupyter-server-proxy, then restart the server); showing pictures")
+    return True, None
+
+
 def live_view_possible():
-    """Whether a live trame view can be shown: in a Jupyter session, unless ``LAB_STATIC=1`` or grading."""
-    if os.environ.get("LAB_STATIC") == "1" or os.environ.get("LAB_GRADING") == "1":
-        return False
-    return in_jupyter_session()
+    """Whether a live trame view can be shown here (:func:`live_view_choice`)."""
+    return live_view_choice()[0]
 
 
 def _main_loop():
@@ -187,7 +205,8 @@ class Explorer:
         # Multisampling triples the cost of a software (llvmpipe) render; explorers answer first.
         self.plotter.ren_win.SetMultiSamples(0)
         style.apply_lights(self.plotter)
-        self.live = live_view_possible() if live is None else bool(live)
+        # why the view is static when it could have been live; the status line shows it whenever it has nothing else
+        self.live, self._static_note = live_view_choice() if live is None else (bool(live), None)
         self.status = W.HTML(layout=W.Layout(min_height="1.4em", flex="1 1 auto"))
         self.progress = W.FloatProgress(value=0.0, min=0.0, max=1.0, bar_style="info",
                                         layout=W.Layout(width="140px", height="14px", visibility="hidden"))
@@ -345,6 +364,8 @@ class Explorer:
             self._say(text, "busy")
 
     def _say(self, text, kind="ok"):
+        if not text and self._static_note:
+            text, kind = self._static_note, "note"
         colour = {"ok": "#57606a", "note": "#9a6700", "error": "#cf222e", "busy": "#0969da"}[kind]
         value = f'<span style="color:{colour}">{html.escape(text)}</span>' if text else ""
         if self.status.value != value:
@@ -439,7 +460,9 @@ class Explorer:
                 return self._view
             except Exception as exc:  # no trame server here: fall back to pictures
                 self.live = False
-                self._say(f"live 3D view unavailable ({type(exc).__name__}: {exc}); showing pictures", "note")
+                self._static_note = _("live 3D view unavailable ({error}); showing pictures").format(
+                    error=f"{type(exc).__name__}: {exc}")
+                self._say(self._static_note, "note")
         self._view = W.Image(value=self.png(), format="png", layout=W.Layout(width="100%", height="auto"))
         self._view.add_class("lab-static-view")
         return self._view
