@@ -25,6 +25,19 @@ def free_port():
         return s.getsockname()[1]
 
 
+def wait_for_port(proc, port, what, log_name, *, timeout, poll=0.3):
+    """Wait until ``proc`` (``what``, logging to ``log_name``) accepts connections on 127.0.0.1:``port``."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        with contextlib.suppress(OSError):
+            socket.create_connection(("127.0.0.1", port), timeout=1).close()
+            return
+        if proc.poll() is not None:
+            raise RuntimeError(f"{what} exited; see {log_name}")
+        time.sleep(poll)
+    raise RuntimeError(f"{what} did not start within {timeout:g} s; see {log_name}")
+
+
 @contextlib.contextmanager
 def jupyterlab(root, *, overrides=True, log=None):
     """Start ``jupyter lab`` on 127.0.0.1 with a token; ``overrides=False`` runs without the project's settings override."""
@@ -44,16 +57,7 @@ def jupyterlab(root, *, overrides=True, log=None):
     logfile = open(log or Path(root) / "jupyterlab.log", "w")
     proc = subprocess.Popen(args, stdout=logfile, stderr=subprocess.STDOUT, env=env, cwd=root)
     try:
-        deadline = time.time() + 90
-        while time.time() < deadline:
-            with contextlib.suppress(OSError):
-                socket.create_connection(("127.0.0.1", port), timeout=1).close()
-                break
-            if proc.poll() is not None:
-                raise RuntimeError(f"jupyter lab exited; see {logfile.name}")
-            time.sleep(0.3)
-        else:
-            raise RuntimeError(f"jupyter lab did not start within 90 s; see {logfile.name}")
+        wait_for_port(proc, port, "jupyter lab", logfile.name, timeout=90)
         yield f"http://127.0.0.1:{port}", token
     finally:
         proc.terminate()

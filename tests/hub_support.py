@@ -9,13 +9,11 @@ settings (every cell rendered, so explorers below the fold are in the page).
 import contextlib
 import os
 import shutil
-import socket
 import subprocess
 import sys
-import time
 from pathlib import Path
 
-from .browser_support import free_port
+from .browser_support import free_port, wait_for_port
 
 ROOT = Path(__file__).resolve().parent.parent
 _BIN = Path("node") / "node_modules" / ".bin" / "configurable-http-proxy"
@@ -74,16 +72,7 @@ def jupyterhub(root, students, files=()):
     proc = subprocess.Popen([str(Path(sys.executable).parent / "jupyterhub"), "-f", str(config)], cwd=root, env=env,
                             stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     try:
-        deadline = time.time() + 120
-        while time.time() < deadline:
-            with contextlib.suppress(OSError):
-                socket.create_connection(("127.0.0.1", port), timeout=1).close()
-                break
-            if proc.poll() is not None:
-                raise RuntimeError(f"jupyterhub exited; see {log.name}")
-            time.sleep(0.5)
-        else:
-            raise RuntimeError(f"jupyterhub did not start within 120 s; see {log.name}")
+        wait_for_port(proc, port, "jupyterhub", log.name, timeout=120, poll=0.5)
         yield f"http://127.0.0.1:{port}", proc
     finally:
         proc.terminate()
