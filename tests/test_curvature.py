@@ -234,3 +234,21 @@ def test_records_print_plain_numbers():
     arrays = repr(sphere.curvature(np.array([0.3, 0.6]), 0.4))
     assert "K=[0.25, 0.25]" in arrays and "array(" not in arrays
     assert "np.float64" not in repr(sphere.fundamental_forms(0.3, 0.4))
+
+
+
+def test_random_nets_of_the_checks_have_no_degenerate_point():
+    """The checks' random nets: b_u x b_v != 0 at every corner (a draw with a degenerate corner once made the
+    visualize_curvature check raise instead of report); _regular_grid holds, which covers every subpatch too."""
+    from lab.geometry import analytic
+
+    rng = np.random.default_rng(20261201)
+    for _ in range(400):
+        m, n = (int(k) for k in rng.integers(1, 5, 2))
+        P = analytic.random_rational_net(rng, m, n)
+        assert analytic._regular_grid(P[..., :2]), P
+        for i in (0, m):
+            for j in (0, n):
+                bu = m * (P[i, j] - P[i - 1, j]) if i else m * (P[1, j] - P[0, j])
+                bv = n * (P[i, j] - P[i, j - 1]) if j else n * (P[i, 1] - P[i, 0])
+                assert np.linalg.norm(np.cross(bu, bv)) > 0.1, (P, i, j)

@@ -197,11 +197,22 @@ def to_float(exact, digits=30):
     return ExactCurvature(*(float(sp.N(x, digits)) for x in exact))
 
 
+def _regular_grid(xy):
+    """Whether the plane part ``xy`` (m+1, n+1, 2) of a net makes every point of its patch regular.
+
+    Every u-difference of the net lies in the cone x > |y| and every v-difference in y > |x|; the
+    derivatives b_u, b_v (and those of every subpatch) are positive combinations of them, so the
+    plane parts of b_u and b_v are never parallel and b_u x b_v != 0 everywhere.
+    """
+    du, dv = np.diff(xy, axis=0), np.diff(xy, axis=1)
+    return bool(np.all(du[..., 0] > np.abs(du[..., 1])) and np.all(dv[..., 1] > np.abs(dv[..., 0])))
+
+
 def random_rational_net(rng, m, n, denominator=8, scale=4, flatness=None):
     """A random control net with rational coordinates ``k / denominator`` (exact in binary if a power of 2).
 
-    The net is a perturbed grid over ``[0, m] x [0, n]`` so that the patch is
-    regular (no degenerate points); heights are random in ``[-scale, scale]``.
+    The net is a perturbed grid over ``[0, m] x [0, n]``, redrawn in the rare case that its patch would
+    have a degenerate point (:func:`_regular_grid`); heights are random in ``[-scale, scale]``.
 
     Parameters
     ----------
@@ -218,7 +229,10 @@ def random_rational_net(rng, m, n, denominator=8, scale=4, flatness=None):
     ndarray of float, shape ``(m+1, n+1, 3)``
     """
     i, j = np.meshgrid(np.arange(m + 1), np.arange(n + 1), indexing="ij")
-    jitter = rng.integers(-denominator // 4, denominator // 4 + 1, size=(m + 1, n + 1, 2)) / denominator
+    while True:  # redraw the rare grid whose patch has a degenerate point (see _regular_grid)
+        jitter = rng.integers(-denominator // 4, denominator // 4 + 1, size=(m + 1, n + 1, 2)) / denominator
+        if _regular_grid(np.stack([i + jitter[..., 0], j + jitter[..., 1]], axis=-1)):
+            break
     z = rng.integers(-scale * denominator, scale * denominator + 1, size=(m + 1, n + 1)) / denominator
     if flatness is not None:
         z = z * flatness
