@@ -392,3 +392,19 @@ def test_every_blocked_name_is_a_function_of_the_library():
     for task in TASKS.values():
         for name in task.blocked:
             assert callable(resolve(name)), name
+
+
+def _all_finite(value):
+    if isinstance(value, dict):
+        return all(_all_finite(v) for v in value.values())
+    return bool(np.all(np.isfinite(np.asarray(value, dtype=float))))
+
+
+@pytest.mark.parametrize("name", sorted(set(check.TASKS) - {"visualize_curvature"}))
+def test_every_case_of_a_seed_sweep_has_a_finite_exact_answer(name):
+    """Random cases are valid input: CI once drew an indefinite first fundamental form (EG − F² = 0)."""
+    task = check.TASKS[name]
+    for seed in range(60):
+        for graded in (False, True):
+            for case in task.make_cases(np.random.default_rng(seed), graded):
+                assert _all_finite(task.expected(case)), (seed, graded, case.name)

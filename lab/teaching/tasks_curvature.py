@@ -186,6 +186,8 @@ def _curvatures_cases(rng, graded):
     for k in range(4 if graded else 2):
         E, G = rng.integers(1, 12, 2) / 4
         F = rng.integers(-3, 4) / 8
+        while 4 * (E * G - F * F) < E * G:  # I must be positive definite (and not nearly singular): redraw F
+            F = rng.integers(-3, 4) / 8
         e, f, g = rng.integers(-12, 13, 3) / 4
         cases.append(CaseSpec(_("random forms {k}").format(k=k + 1), tuple(float(x) for x in (E, F, G, e, f, g))))
     forms, lam = _umbilic_forms(rng)
