@@ -53,7 +53,7 @@ lab: setup
 test: EXTRA_APT = $(TEST_APT_PACKAGES)
 test: system-deps $(TEST_STAMP)
 	$(PY) jupyter/settings.py en $(OVERRIDES)
-	$(PY) -m pytest -n 2
+	$(PY) -m pytest -n 2 --dist loadgroup --durations=12
 
 # Regenerate exercises/en, exercises/de, solutions/en and solutions/de from the bilingual sources solutions/NN_*.ipynb
 # (refuses to overwrite notebooks edited since they were generated, e.g. a student's exercise).

@@ -32,7 +32,8 @@ TITLES = {"en": ("curvature explorer", "focal surface explorer", "reflection exp
           "de": ("Krümmungs-Explorer", "Brennflächen-Explorer", "Reflexions-Explorer", "Geodätische-Explorer")}
 NOTEBOOKS = [p.name for p in sorted((ROOT / "solutions" / "en").glob("*.ipynb")) if "Explorer(" in p.read_text()]
 
-pytestmark = pytest.mark.skipif(os.environ.get("LAB_SKIP_BROWSER") == "1", reason="LAB_SKIP_BROWSER=1")
+pytestmark = [pytest.mark.skipif(os.environ.get("LAB_SKIP_BROWSER") == "1", reason="LAB_SKIP_BROWSER=1"),
+              pytest.mark.xdist_group("browser")]  # one JupyterLab and one Chromium, on one worker
 
 
 @pytest.fixture(scope="module")

@@ -60,6 +60,9 @@ class MyBezierPatches(lab.BezierPatches):
 '''
 
 
+pytestmark = pytest.mark.xdist_group("hostile")  # the folder run (both cores for minutes) happens once
+
+
 def snapshot(root, skip):
     return {p.relative_to(root): p.read_bytes() for p in sorted(root.rglob("*"))
             if p.is_file() and skip not in p.parents}

@@ -23,6 +23,7 @@ NOTEBOOK = "05_visualize_curvature.ipynb"
 STUDENTS = ("ada", "bob")
 
 pytestmark = [
+    pytest.mark.xdist_group("hub"),  # one hub for all its tests, on one worker
     pytest.mark.skipif(os.environ.get("LAB_SKIP_BROWSER") == "1", reason="LAB_SKIP_BROWSER=1"),
     pytest.mark.skipif(not PROXY.exists(), reason="configurable-http-proxy is not installed (make test installs it)"),
 ]
