@@ -39,8 +39,8 @@ import gc
 import os
 import resource
 import statistics
+import sys
 import time
-import tracemalloc
 import warnings
 
 import numpy as np
@@ -48,6 +48,9 @@ import numpy as np
 import lab
 from lab import analytic, colormaps, surfaces
 from lab.mesh import surface_mesh
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from tests.measure import traced_peak  # the tests measure memory the same way
 
 
 def load():
@@ -82,17 +85,6 @@ def cpu_sample(func, reps):
     finally:
         gc.enable()
     return cpu / reps, (r1.ru_stime - r0.ru_stime) / reps
-
-
-def traced_peak(func):
-    """Peak traced memory of ``func()`` above what was allocated before, and its result."""
-    gc.collect()
-    tracemalloc.start()
-    base = tracemalloc.get_traced_memory()[0]
-    result = func()
-    peak = tracemalloc.get_traced_memory()[1] - base
-    tracemalloc.stop()
-    return peak, result
 
 
 # ----------------------------------------------------------------------------- OpenCASCADE

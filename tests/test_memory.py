@@ -1,7 +1,6 @@
 """Guards against work that would not fit in memory, and memory per patch of refine and visualize_curvature."""
 
 import time
-import tracemalloc
 
 import numpy as np
 import pytest
@@ -10,6 +9,8 @@ import lab
 import lab.mesh
 from lab import surfaces
 from lab.geometry import validation as _v
+
+from .measure import traced_peak
 
 
 @pytest.fixture
@@ -35,7 +36,7 @@ def test_limit_from_keyword_setting_and_environment(limit, monkeypatch):
     p = surfaces.practical().to_bezier_patches()
     for depth in (2, 4):  # the estimate covers what refine really allocates, without overstating it much
         need = p.refine_bytes(depth)
-        peak, _ = _peak(lambda: p.copy().refine(depth))
+        peak, _ = traced_peak(lambda: p.copy().refine(depth))
         assert peak <= need <= 10 * peak + 4e6
     with pytest.raises(ValueError, match=r"more than the limit of 1000 B \(given as memory_limit\)"):
         p.refine(2, memory_limit=1000)
@@ -79,26 +80,17 @@ def test_calls_that_grow_with_the_work_are_guarded(limit):
     assert s.curvature(1.0, 2.0).K.shape == ()  # small work passes
 
 
-def _peak(call):
-    tracemalloc.start()
-    base = tracemalloc.get_traced_memory()[0]
-    result = call()
-    peak = tracemalloc.get_traced_memory()[1] - base
-    tracemalloc.stop()
-    return peak, result
-
-
 @pytest.mark.parametrize("depth", [3, 4])
 def test_memory_per_patch_of_refine_and_visualize(depth):
     # the issue's bound: 1.2 KiB per patch; the collection itself holds 512 B per bicubic patch
     base = surfaces.practical().to_bezier_patches()
-    peak, p = _peak(lambda: base.refine(depth))
+    peak, p = traced_peak(lambda: base.refine(depth))
     n = len(p)
     assert n == 49 * 4**depth
     assert peak / n <= 1.2 * 1024
     held = p.control_points.nbytes + p.curvature.nbytes + p.colors.nbytes
     assert held == 512 * n
-    peak, _ = _peak(lambda: p.visualize_curvature(p.CURVATURE_GAUSSIAN, p.COLOR_MAP_LINEAR))
+    peak, _ = traced_peak(lambda: p.visualize_curvature(p.CURVATURE_GAUSSIAN, p.COLOR_MAP_LINEAR))
     assert (held + peak) / n <= 1.2 * 1024
     assert np.all(np.isfinite(p.colors))
 

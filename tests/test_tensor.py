@@ -1,7 +1,5 @@
 """Chunked tensor-product evaluation (lab.tensor): the fast paths against a slow reference, grids, memory."""
 
-import tracemalloc
-
 import numpy as np
 import pytest
 
@@ -10,6 +8,8 @@ from lab import bspline, surfaces, tensor
 from lab.bezier import DERIVATIVE_ORDERS, homogeneous
 from lab.curvature import from_derivatives
 from lab.derivatives import Derivatives, from_homogeneous
+
+from .measure import traced_peak
 
 
 def naive_derivatives(s, u, v):
@@ -145,11 +145,7 @@ def test_temporary_memory_per_point_is_bounded(grid):
         u, v = rng.uniform(0, 1, n_side**2), rng.uniform(0, 1, n_side**2)
         call = lambda: s.curvature(u, v)  # noqa: E731
     call()
-    tracemalloc.start()
-    base = tracemalloc.get_traced_memory()[0]
-    c = call()
-    peak = tracemalloc.get_traced_memory()[1] - base
-    tracemalloc.stop()
+    peak, c = traced_peak(call)
     n = n_side**2
     result = sum(np.asarray(x).nbytes for x in c)
     assert result == 33 * n
