@@ -149,3 +149,17 @@ def test_show_returns_a_png_in_the_style(practical):
     assert shown.data[:4] == b"\x89PNG"
     plain = render.picture(practical, window_size=(400, 300), legend=True)  # colours of unknown meaning: no bar
     assert plain.shape == (300, 400, 3)
+
+
+def test_lines_are_drawn_over_the_surface_not_hidden_in_it():
+    """Reflection lines lie on the surface; drawn with a depth offset they show whole (without it: ~700 of 4300 px)."""
+    import lab
+
+    hood = surfaces.hood()
+    lines = lab.reflection_lines(hood, direction=(1, 0, 0), count=12, resolution=96)
+    mesh, _ = render._as_mesh(hood, None, None, 1, 64)
+    dark = lambda im: int(np.sum(np.all(im < 80, axis=-1)))
+    assert dark(render.render_view(mesh, (400, 300), direction=render.VIEW_DIRECTION)) < 20
+    assert dark(render.render_view(mesh, (400, 300), lines=lines, direction=render.VIEW_DIRECTION)) > 3000
+    with pytest.raises(TypeError, match="lines must be a pyvista.PolyData of polylines.*got list"):
+        render.picture(hood, lines=[lines])

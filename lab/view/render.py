@@ -103,11 +103,12 @@ def _add_flat(plotter, mesh, edges):
     plotter.add_mesh(mesh, show_edges=edges, ambient=0.3, diffuse=0.7, specular=0.0, smooth_shading=False, **colors)
 
 
-def render_view(mesh, size, *, edges=False, net=None, direction=None, camera=None, background="white",
+def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None, camera=None, background="white",
                 shading="smooth"):
     """The bare 3D view of ``mesh`` in the lab's style (no frame), ``size`` = (width, height); RGB array.
 
     ``shading="flat"`` draws ``mesh`` (with cell colours) as Dill did: flat polygons lit by one light at the eye.
+    ``lines`` (polylines, e.g. reflection lines) are drawn in black over the surface.
     """
     configure_offscreen()
     plotter = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])], lighting="none")
@@ -124,6 +125,11 @@ def render_view(mesh, size, *, edges=False, net=None, direction=None, camera=Non
             lines, points = net
             plotter.add_mesh(lines, color="black", line_width=1)
             plotter.add_points(points, color="black", point_size=5, render_points_as_spheres=True)
+        if lines is not None and lines.n_points:
+            actor = plotter.add_mesh(lines, color="black", line_width=2.5, scalars=None)
+            # lines lie on the surface: draw them in front of it, not half hidden in its depth buffer
+            actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
+            actor.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(0, -66000)
         if shading != "flat":
             style.apply_lights(plotter)
         azimuth, elevation = camera if camera is not None else (None, None)
@@ -135,7 +141,8 @@ def render_view(mesh, size, *, edges=False, net=None, direction=None, camera=Non
 
 
 def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edges=False, net=False, title=None,
-            resolution=1, n=64, direction=None, camera=None, map_options=None, legend=True, shading="smooth"):
+            resolution=1, n=64, direction=None, camera=None, map_options=None, legend=True, shading="smooth",
+            lines=None):
     """A picture of patches, a surface or a mesh in the lab's style, as an RGB array (height, width, 3).
 
     Parameters
@@ -152,6 +159,8 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         Draw mesh edges (for patches at resolution 1: the patch borders).
     net : bool
         Draw the control nets of patches.
+    lines : pyvista.PolyData, optional
+        Polylines drawn in black over the surface, e.g. :func:`lab.reflection_lines` or :func:`lab.isophotes`.
     title : str, optional
     camera : (float, float), optional
         Azimuth and elevation in degrees (azimuth around z from +x, elevation
@@ -181,7 +190,12 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
             mesh = _mesh.color_cells(mesh, curvature, color_map, **(map_options or {}))
         elif "RGB" in mesh.point_data:
             mesh = _mesh.color_cells(mesh)
-    if direction is None and camera is None and ("box_lo" in mesh.field_data or "light_origin" in mesh.field_data):
+    if lines is not None and not isinstance(lines, pv.PolyData):
+        raise TypeError(f"lines must be a pyvista.PolyData of polylines (e.g. lab.reflection_lines); "
+                        f"got {type(lines).__name__}")
+    view_dependent = [m for m in (mesh, lines) if m is not None]
+    if direction is None and camera is None and any("box_lo" in m.field_data or "light_origin" in m.field_data
+                                                    for m in view_dependent):
         # stripe mappings and reflection lines depend on the eye: show them from the one they were computed for
         direction = VIEW_DIRECTION
     if isinstance(legend, Legend):
@@ -192,8 +206,8 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         chosen = None
     frame = style.layout(window_size, title, chosen)
     net_data = _net_lines(obj) if net and hasattr(obj, "control_points") else None
-    view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, direction=direction, camera=camera,
-                       shading=shading)
+    view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, lines=lines, direction=direction,
+                       camera=camera, shading=shading)
     return style.compose(view, frame, title=title, legend=chosen)
 
 
