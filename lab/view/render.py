@@ -126,10 +126,7 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
             plotter.add_mesh(lines, color="black", line_width=1)
             plotter.add_points(points, color="black", point_size=5, render_points_as_spheres=True)
         if lines is not None and lines.n_points:
-            actor = plotter.add_mesh(lines, color="black", line_width=2.5, scalars=None)
-            # lines lie on the surface: draw them in front of it, not half hidden in its depth buffer
-            actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
-            actor.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(0, -66000)
+            style.add_lines_on_surface(plotter, lines)
         if shading != "flat":
             style.apply_lights(plotter)
         azimuth, elevation = camera if camera is not None else (None, None)

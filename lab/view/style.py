@@ -43,6 +43,17 @@ DEFAULT_VIEW = (-60.0, 35.0)
 PREFERRED_ELEVATION = 50.0
 
 
+def add_lines_on_surface(plotter, lines, **options):
+    """Add polylines lying on a surface (reflection lines, isophotes) in black, drawn in front of it.
+
+    Without a depth offset most of each line would hide in the surface's depth buffer.  Returns the actor.
+    """
+    actor = plotter.add_mesh(lines, color="black", line_width=2.5, scalars=None, **options)
+    actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
+    actor.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(0, -66000)
+    return actor
+
+
 def apply_lights(plotter):
     """Replace the plotter's lights by the lab's three camera lights."""
     plotter.remove_all_lights()

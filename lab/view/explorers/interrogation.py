@@ -169,7 +169,7 @@ class ReflectionExplorer(Explorer):
             self.surface_actor.SetVisibility(False)
         else:
             self.surface_actor.SetVisibility(True)
-            self.overlay_actor = self.plotter.add_mesh(new, color="black", line_width=2, render_lines_as_tubes=False)
+            self.overlay_actor = style.add_lines_on_surface(self.plotter, new, render_lines_as_tubes=False)
         self.overlay = new
         self.refresh()
 
