@@ -16,7 +16,8 @@ import time
 from pathlib import Path
 
 import nbformat
-from nbclient import NotebookClient
+
+from lab.teaching.runner_client import NotebookRunner
 
 ROOT = Path(__file__).resolve().parent.parent
 PROBE = """import json, os, resource
@@ -31,7 +32,7 @@ def measure(path):
     nb = nbformat.read(str(path), as_version=4)
     nb.cells.append(nbformat.v4.new_code_cell(PROBE))
     os.environ["LAB_INTERACTIVE"] = "1"
-    client = NotebookClient(nb, timeout=600, kernel_name="python3", allow_errors=True,
+    client = NotebookRunner(nb, timeout=600, kernel_name="python3", allow_errors=True,
                             resources={"metadata": {"path": str(path.parent)}},
                             extra_arguments=["--IPKernelApp.log_level=ERROR"])
     start = time.perf_counter()

@@ -10,7 +10,8 @@ from pathlib import Path
 
 import nbformat
 import pytest
-from nbclient import NotebookClient
+
+from lab.teaching.runner_client import NotebookRunner
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -23,7 +24,7 @@ def run_cells(name, ids):
     assert not missing, f"{name} has no code cells {missing}"
     nb.cells = [code[0]] + [c for c in code[1:] if c.id in ids]
     with tempfile.TemporaryDirectory() as tmp:
-        NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": tmp}}).execute()
+        NotebookRunner(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": tmp}}).execute()
     out = {}
     for c in nb.cells[1:]:
         text = []

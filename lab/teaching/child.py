@@ -17,11 +17,11 @@ import sys
 from pathlib import Path
 
 import nbformat
-from nbclient import NotebookClient
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
 
 from ..i18n import _
 from .protocol import MARKER
+from .runner_client import NotebookRunner
 
 #: Bytes of output kept per cell (a cell that prints gigabytes must not exhaust the sandbox's memory).
 MAX_OUTPUT = 100_000
@@ -31,8 +31,8 @@ MAX_RESTARTS = 3
 PROBE_TIMEOUT = 10
 
 
-class _Client(NotebookClient):
-    """nbclient with a bound on the output it keeps."""
+class _Client(NotebookRunner):
+    """nbclient (with waits that cannot stall, :mod:`.runner_client`) and a bound on the output it keeps."""
 
     def output(self, outs, msg, display_id, cell_index):
         size = sum(len(json.dumps(o, default=str)) for o in outs)
