@@ -39,6 +39,30 @@ def wait_for_port(proc, port, what, log_name, *, timeout, poll=0.3):
 
 
 @contextlib.contextmanager
+def serving(args, port, what, log_path, *, env, cwd, timeout, stop_timeout, poll=0.3, own_group=False):
+    """Run the server ``args`` (logging to ``log_path``) until it accepts connections on ``port``; yield the process.
+
+    On exit it is terminated (killed after ``stop_timeout`` s); with ``own_group`` it runs in its own process
+    group, which is killed too (the children it started, e.g. a hub's proxy and single-user servers).
+    """
+    with open(log_path, "w") as log:
+        proc = subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT, env=env, cwd=cwd,
+                                start_new_session=own_group)
+        try:
+            wait_for_port(proc, port, what, log.name, timeout=timeout, poll=poll)
+            yield proc
+        finally:
+            proc.terminate()
+            try:
+                proc.wait(timeout=stop_timeout)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+            if own_group:
+                with contextlib.suppress(ProcessLookupError):
+                    os.killpg(proc.pid, 9)
+
+
+@contextlib.contextmanager
 def jupyterlab(root, *, overrides=True, log=None):
     """Start ``jupyter lab`` on 127.0.0.1 with a token; ``overrides=False`` runs without the project's settings override."""
     port, token = free_port(), secrets.token_hex(12)
@@ -54,18 +78,9 @@ def jupyterlab(root, *, overrides=True, log=None):
         empty.mkdir(exist_ok=True)
         args.append(f"--LabApp.app_settings_dir={empty}")
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "PYTEST_XDIST_WORKER")}
-    logfile = open(log or Path(root) / "jupyterlab.log", "w")
-    proc = subprocess.Popen(args, stdout=logfile, stderr=subprocess.STDOUT, env=env, cwd=root)
-    try:
-        wait_for_port(proc, port, "jupyter lab", logfile.name, timeout=90)
+    with serving(args, port, "jupyter lab", log or Path(root) / "jupyterlab.log", env=env, cwd=root, timeout=90,
+                 stop_timeout=20):
         yield f"http://127.0.0.1:{port}", token
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-        logfile.close()
 
 
 def image(png_bytes):

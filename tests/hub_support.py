@@ -9,11 +9,10 @@ settings (every cell rendered, so explorers below the fold are in the page).
 import contextlib
 import os
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
-from .browser_support import free_port, wait_for_port
+from .browser_support import free_port, serving
 
 ROOT = Path(__file__).resolve().parent.parent
 _BIN = Path("node") / "node_modules" / ".bin" / "configurable-http-proxy"
@@ -68,21 +67,11 @@ def jupyterhub(root, students, files=()):
     drop = ("DISPLAY", "PYTEST_XDIST_WORKER", "JUPYTERHUB_SERVICE_PREFIX")
     env = {k: v for k, v in os.environ.items() if k not in drop}
     env["PATH"] = f"{Path(sys.executable).parent}:{env.get('PATH', '')}"
-    log = open(root / "hub.log", "w")
-    proc = subprocess.Popen([str(Path(sys.executable).parent / "jupyterhub"), "-f", str(config)], cwd=root, env=env,
-                            stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
-    try:
-        wait_for_port(proc, port, "jupyterhub", log.name, timeout=120, poll=0.5)
+    hub = [str(Path(sys.executable).parent / "jupyterhub"), "-f", str(config)]
+    # own process group: stopping it also stops the proxy and the single-user servers
+    with serving(hub, port, "jupyterhub", root / "hub.log", env=env, cwd=root, timeout=120, poll=0.5, stop_timeout=30,
+                 own_group=True) as proc:
         yield f"http://127.0.0.1:{port}", proc
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(proc.pid, 9)  # the proxy and the single-user servers
-        log.close()
 
 
 def login(context, hub, user, timeout_ms=240_000):
