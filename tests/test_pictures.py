@@ -161,5 +161,10 @@ def test_lines_are_drawn_over_the_surface_not_hidden_in_it():
     dark = lambda im: int(np.sum(np.all(im < 80, axis=-1)))
     assert dark(render.render_view(mesh, (400, 300), direction=render.VIEW_DIRECTION)) < 20
     assert dark(render.render_view(mesh, (400, 300), lines=lines, direction=render.VIEW_DIRECTION)) > 3000
+    # beside a control net the lines are still drawn (the net's own lines must not take their place)
+    net = render._net_lines(hood)
+    net_only = dark(render.render_view(mesh, (400, 300), net=net, direction=render.VIEW_DIRECTION))
+    both = dark(render.render_view(mesh, (400, 300), net=net, lines=lines, direction=render.VIEW_DIRECTION))
+    assert both > net_only + 2000
     with pytest.raises(TypeError, match="lines must be a pyvista.PolyData of polylines.*got list"):
         render.picture(hood, lines=[lines])

@@ -122,9 +122,9 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
             plotter.add_mesh(mesh, color="#d9d9d9", show_edges=edges, smooth_shading=True, **style.SURFACE_PROPERTIES,
                              **({"edge_color": "#3a3a3a", "line_width": 0.8} if edges else {}))
         if net is not None:
-            lines, points = net
-            plotter.add_mesh(lines, color="black", line_width=1)
-            plotter.add_points(points, color="black", point_size=5, render_points_as_spheres=True)
+            net_lines, net_points = net
+            plotter.add_mesh(net_lines, color="black", line_width=1)
+            plotter.add_points(net_points, color="black", point_size=5, render_points_as_spheres=True)
         if lines is not None and lines.n_points:
             style.add_lines_on_surface(plotter, lines)
         if shading != "flat":
@@ -179,6 +179,9 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
     """
     if shading not in ("smooth", "flat"):
         raise ValueError(f"shading must be 'smooth' or 'flat'; got {shading!r}")
+    if lines is not None and not isinstance(lines, pv.PolyData):
+        raise TypeError(f"lines must be a pyvista.PolyData of polylines (e.g. lab.reflection_lines); "
+                        f"got {type(lines).__name__}")
     mesh, known = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
     if shading == "flat":
         from .. import mesh as _mesh
@@ -187,9 +190,6 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
             mesh = _mesh.color_cells(mesh, curvature, color_map, **(map_options or {}))
         elif "RGB" in mesh.point_data:
             mesh = _mesh.color_cells(mesh)
-    if lines is not None and not isinstance(lines, pv.PolyData):
-        raise TypeError(f"lines must be a pyvista.PolyData of polylines (e.g. lab.reflection_lines); "
-                        f"got {type(lines).__name__}")
     view_dependent = [m for m in (mesh, lines) if m is not None]
     if direction is None and camera is None and any("box_lo" in m.field_data or "light_origin" in m.field_data
                                                     for m in view_dependent):
