@@ -44,9 +44,20 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from tests.browser_support import (  # noqa: E402
-    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, choose, jupyterlab, kernel_value, now_ms, restart_kernel,
-    settle_time, view_frame, wait_quiet, write_notebook,
+from tests.browser_support import (
+    CHROMIUM,
+    CHROMIUM_ARGS,
+    FRAME_COUNTER_JS,
+    Notebook,
+    choose,
+    jupyterlab,
+    kernel_value,
+    now_ms,
+    restart_kernel,
+    settle_time,
+    view_frame,
+    wait_quiet,
+    write_notebook,
 )
 
 TARGETS = {"colour change": ("≤", 250.0), "depth → 5 (first)": ("≤", 800.0), "depth → 5 (cached)": ("≤", 250.0),

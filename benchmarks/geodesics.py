@@ -43,9 +43,9 @@ import time
 import warnings
 
 import numpy as np
+from lab.geodesics import geodesic_between, geodesic_fan, normal_section_fan, polar_isodistance
 
 from lab import surfaces
-from lab.geodesics import geodesic_between, geodesic_fan, normal_section_fan, polar_isodistance
 from lab.interrogation.geodesics.polyhedral import polyhedral_mesh
 
 TARGET_SPEEDUP = 5.0
@@ -209,7 +209,7 @@ def between_table(args):
                 exact_txt = f"{1e3 * t_exact:10.2f} {(dist - path.length) / path.length:8.1e}"
             else:
                 exact_txt = f"{'-':>10} {'-':>8}"
-            print(f"{name:<13} {str(a):>12} {str(b):>12} | {wall:8.3f} {cpu:6.3f} {path.length:14.10f} "
+            print(f"{name:<13} {a!s:>12} {b!s:>12} | {wall:8.3f} {cpu:6.3f} {path.length:14.10f} "
                   f"{path.length - previous:11.1e} | {1e3 * t_flip:9.2f} {(flip - path.length) / path.length:8.1e} | "
                   f"{exact_txt}")
         summary[name] = (statistics.median(walls), statistics.median(cpus), t_mesh)

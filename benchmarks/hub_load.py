@@ -41,11 +41,21 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from tests.browser_support import (  # noqa: E402
-    CHROMIUM, CHROMIUM_ARGS, FRAME_COUNTER_JS, Notebook, choose, chosen_at, frames_after, now_ms, process_cpu_seconds,
-    process_rss_mb, view_frame, wait_quiet,
+from tests.browser_support import (
+    CHROMIUM,
+    CHROMIUM_ARGS,
+    FRAME_COUNTER_JS,
+    Notebook,
+    choose,
+    chosen_at,
+    frames_after,
+    now_ms,
+    process_cpu_seconds,
+    process_rss_mb,
+    view_frame,
+    wait_quiet,
 )
-from tests.hub_support import PROXY, descendants, hub_processes, jupyterhub, login  # noqa: E402
+from tests.hub_support import PROXY, descendants, hub_processes, jupyterhub, login
 
 NOTEBOOK = ROOT / "solutions" / "en" / "05_visualize_curvature.ipynb"
 MAPS = ("signed log", "h∘f2 linear (min/max)")

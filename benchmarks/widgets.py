@@ -21,10 +21,9 @@ import statistics
 import time
 import warnings
 
-import numpy as np
+from lab.widgets import CurvatureExplorer, GeodesicExplorer
 
 from lab import surfaces
-from lab.widgets import CurvatureExplorer, GeodesicExplorer
 
 TARGETS = {"recolour at depth 5": 0.050, "depth change to 5": 0.300, "fan of 40 geodesics": 1.0}
 

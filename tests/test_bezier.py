@@ -18,7 +18,7 @@ def naive_surface(P, u, v, weights=None):
 
 def test_bernstein_partition_of_unity_and_endpoints():
     t = np.linspace(0, 1, 11)
-    for n in range(0, 8):
+    for n in range(8):
         B = bezier.bernstein(n, t)
         np.testing.assert_allclose(B.sum(axis=-1), 1.0, atol=1e-14)
         np.testing.assert_array_equal(B[0], np.eye(n + 1)[0])

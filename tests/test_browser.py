@@ -20,8 +20,19 @@ from pathlib import Path
 import pytest
 
 from .browser_support import (
-    CHROMIUM, CHROMIUM_ARGS, Notebook, click_when_still, coverage, jupyterlab, kernel_value, layout_of, process_cpu_seconds,
-    process_rss_mb, rerun_cell, restart_kernel, write_notebook,
+    CHROMIUM,
+    CHROMIUM_ARGS,
+    Notebook,
+    click_when_still,
+    coverage,
+    jupyterlab,
+    kernel_value,
+    layout_of,
+    process_cpu_seconds,
+    process_rss_mb,
+    rerun_cell,
+    restart_kernel,
+    write_notebook,
 )
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -210,7 +221,7 @@ def _mapper_range(nb, mode):
     expression = ("e.range_mode.value, e.busy, tuple(float(x) for x in e.actor.mapper.scalar_range), "
                   "dict(e.counts), e.status.value")
     text = _wait_value(nb, expression, lambda t: repr(mode) in t and ", False," in t)
-    got_mode, busy, used, counts, status = eval(text)  # noqa: S307 - our own kernel's output
+    got_mode, busy, used, counts, status = eval(text)
     assert got_mode == mode and not busy, f"the kernel did not take {mode!r}: {text}"
     return used, text
 
@@ -240,7 +251,7 @@ def test_readouts_equal_the_range_the_colours_use(browser, lab_server, tmp_path)
     field.fill("10")
     field.press("Enter")
     text = _wait_value(nb, "tuple(float(x) for x in e.actor.mapper.scalar_range)", lambda t: "10.0)" in t)
-    assert eval(text) == pytest.approx((manual[0], 10.0)), text  # noqa: S307
+    assert eval(text) == pytest.approx((manual[0], 10.0)), text
     nb.page.wait_for_timeout(1500)
     _assert_same(_readouts(ex), (manual[0], 10.0), "manual after typing")
     labels = ex.locator(".lab-colorbar-label").all_inner_texts()

@@ -5,11 +5,11 @@ import time
 
 import numpy as np
 import pytest
+from lab.colormaps import f1, f2, f3, h
 
 import lab
 from lab import check
 from lab.teaching import hints
-from lab.colormaps import f1, f2, f3, h
 
 
 def make_solution(mistake=None):
@@ -283,7 +283,7 @@ def _nets(P):
 
 def test_derivative_nets_and_corners_hints():
     assert check.derivative_nets(_nets).passed
-    no_factors = lambda P: (np.diff(P, axis=0), np.diff(P, axis=1), np.diff(P, 2, axis=0),  # noqa: E731
+    no_factors = lambda P: (np.diff(P, axis=0), np.diff(P, axis=1), np.diff(P, 2, axis=0),
                             np.diff(np.diff(P, axis=0), axis=1), np.diff(P, 2, axis=1))
     assert "need the degree factors" in str(check.derivative_nets(no_factors))
 
@@ -293,11 +293,11 @@ def test_derivative_nets_and_corners_hints():
                 m * n * np.diff(np.diff(P, axis=0), axis=1), n * (n - 1) * np.diff(P, 2, axis=1))
 
     assert "m and n are swapped" in str(check.derivative_nets(swapped))
-    corners = lambda P: tuple(D[[0, -1]][:, [0, -1]] for D in _nets(P))  # noqa: E731
+    corners = lambda P: tuple(D[[0, -1]][:, [0, -1]] for D in _nets(P))
     assert check.corner_derivatives(corners).passed
-    transposed = lambda P: tuple(np.swapaxes(D[[0, -1]][:, [0, -1]], 0, 1) for D in _nets(P))  # noqa: E731
+    transposed = lambda P: tuple(np.swapaxes(D[[0, -1]][:, [0, -1]], 0, 1) for D in _nets(P))
     assert "corners mixed up" in str(check.corner_derivatives(transposed))
-    blocked = lambda P: tuple(lab.bezier.corner_derivatives(P)[1:])  # noqa: E731
+    blocked = lambda P: tuple(lab.bezier.corner_derivatives(P)[1:])
     assert check.corner_derivatives(blocked).status == "delegated"
 
 

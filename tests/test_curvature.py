@@ -5,10 +5,10 @@ import warnings
 import numpy as np
 import pytest
 import sympy as sp
+from lab.curvature import DegeneratePointWarning, PointClass
 
 import lab
 from lab import analytic, surfaces
-from lab.curvature import DegeneratePointWarning, PointClass
 
 from .conftest import rotation
 
@@ -101,7 +101,7 @@ def test_rational_patch_against_sympy_quotient(rng):
     P = analytic.random_rational_net(rng, m, n)
     w = rng.integers(1, 9, size=(m + 1, n + 1)) / 4
     u, v = sp.symbols("u v")
-    B = lambda k, i, t: sp.binomial(k, i) * t**i * (1 - t) ** (k - i)  # noqa: E731
+    B = lambda k, i, t: sp.binomial(k, i) * t**i * (1 - t) ** (k - i)
     den = sum(sp.Rational(w[i, j]) * B(m, i, u) * B(n, j, v) for i in range(m + 1) for j in range(n + 1))
     xyz = [
         sum(sp.Rational(w[i, j]) * sp.Rational(P[i, j, c]) * B(m, i, u) * B(n, j, v) for i in range(m + 1) for j in range(n + 1))

@@ -2,11 +2,6 @@
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-from scipy.interpolate import CubicSpline
-
-import lab
-from lab import surfaces
 from lab.geodesics import (
     Fan,
     Path,
@@ -19,6 +14,11 @@ from lab.geodesics import (
     polar_isodistance,
     start_direction,
 )
+from scipy.integrate import solve_ivp
+from scipy.interpolate import CubicSpline
+
+import lab
+from lab import surfaces
 from lab.interrogation.geodesics.problem import _Problem
 
 

@@ -1,7 +1,6 @@
 """Messages in German: every marked message has a German text, the compiled catalogue is current, and the
 checks, hints and grader reports speak the language chosen (LAB_LANG, set_language, a notebook's language)."""
 
-import io
 import re
 import subprocess
 import sys
@@ -9,11 +8,10 @@ from pathlib import Path
 
 import pytest
 
-import lab
 from lab import check, i18n
 
 babel = pytest.importorskip("babel")
-from babel.messages import extract, mofile, pofile  # noqa: E402
+from babel.messages import extract, mofile, pofile
 
 ROOT = Path(__file__).resolve().parent.parent
 PO = i18n.LOCALE_DIR / "de" / "LC_MESSAGES" / "lab.po"

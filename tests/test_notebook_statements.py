@@ -9,7 +9,6 @@ import tempfile
 from pathlib import Path
 
 import nbformat
-import pytest
 
 from lab.teaching.runner_client import NotebookRunner
 

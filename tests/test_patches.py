@@ -4,10 +4,11 @@ import warnings
 
 import numpy as np
 import pytest
+from lab.curvature import DegeneratePointWarning
 
 import lab
 from lab import analytic, colormaps, surfaces
-from lab.curvature import DegeneratePointWarning
+
 
 @pytest.fixture
 def nets(rng):

@@ -4,12 +4,12 @@ import warnings
 
 import numpy as np
 import pytest
+from lab.bezier import bernstein
 
 import lab
-from lab.interrogation import meshes as I
 from lab import reflection as Rf
 from lab import surfaces
-from lab.bezier import bernstein
+from lab.interrogation import meshes as I
 from lab.interrogation import reflection_paper as RP
 from lab.mesh import surface_mesh
 

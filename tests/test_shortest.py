@@ -2,10 +2,9 @@
 
 import numpy as np
 import pytest
-
-import lab
-from lab import surfaces
 from lab.geodesics import geodesic, geodesic_between
+
+from lab import surfaces
 from lab.interrogation.geodesics.polyhedral import PolyhedralMesh, polyhedral_mesh
 from lab.interrogation.geodesics.problem import GEODESIC, _geodesic_rhs, _problem
 

@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
+from lab.curvature import PointClass
 
 import lab
 from lab import surfaces
-from lab.curvature import PointClass
 
 
 def test_practical_is_exactly_the_practicals_example():

@@ -2,12 +2,12 @@
 
 import numpy as np
 import pytest
-
-import lab
-from lab import bspline, surfaces, tensor
 from lab.bezier import DERIVATIVE_ORDERS, homogeneous
 from lab.curvature import from_derivatives
 from lab.derivatives import Derivatives, from_homogeneous
+
+import lab
+from lab import bspline, surfaces, tensor
 
 from .measure import traced_peak
 
@@ -139,11 +139,11 @@ def test_temporary_memory_per_point_is_bounded(grid):
     n_side = 400
     if grid:
         u = v = np.linspace(0, 1, n_side)
-        call = lambda: s.curvature_grid(u, v)  # noqa: E731
+        call = lambda: s.curvature_grid(u, v)
     else:
         rng = np.random.default_rng(1)
         u, v = rng.uniform(0, 1, n_side**2), rng.uniform(0, 1, n_side**2)
-        call = lambda: s.curvature(u, v)  # noqa: E731
+        call = lambda: s.curvature(u, v)
     call()
     peak, c = traced_peak(call)
     n = n_side**2

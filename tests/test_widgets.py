@@ -7,11 +7,11 @@ import threading
 import ipywidgets as W
 import numpy as np
 import pytest
+from lab.widgets import CurvatureExplorer, FocalExplorer, GeodesicExplorer, ReflectionExplorer
 
 import lab
 from lab import surfaces
 from lab.view.explorers import base
-from lab.widgets import CurvatureExplorer, FocalExplorer, GeodesicExplorer, ReflectionExplorer
 
 
 def sig4(x):

@@ -37,14 +37,14 @@ SQRT_DIGITS = 50
 
 __all__ = [
     "ExactCurvature",
-    "curvature_from_derivatives",
-    "curvature_exprs",
-    "exact_curvature",
-    "bezier_derivatives_exact",
-    "bezier_curvature_exact",
     "bezier_corner_curvature_exact",
-    "to_float",
+    "bezier_curvature_exact",
+    "bezier_derivatives_exact",
+    "curvature_exprs",
+    "curvature_from_derivatives",
+    "exact_curvature",
     "random_rational_net",
+    "to_float",
 ]
 
 

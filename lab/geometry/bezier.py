@@ -22,17 +22,17 @@ from . import validation as _v
 from .derivatives import Derivatives, from_homogeneous
 
 __all__ = [
-    "binomials",
     "bernstein",
+    "binomials",
+    "corner_derivatives",
     "de_casteljau",
+    "dehomogenize",
     "derivative_net",
     "derivatives",
-    "corner_derivatives",
     "evaluate",
+    "homogeneous",
     "split",
     "subdivide",
-    "homogeneous",
-    "dehomogenize",
 ]
 
 #: The six derivative orders (du, dv) in the order of the fields of Derivatives.
@@ -214,7 +214,7 @@ def derivatives(P, u, v, weights=None, paired=False):
     return D if weights is None else from_homogeneous(D)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _corner_stencil(degree, order):
     """Indices and weights of the r-th forward difference at both ends of a degree-m polygon.
 
@@ -232,7 +232,7 @@ def _corner_stencil(degree, order):
     return np.stack([k, degree - order + k]), weights
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _both_corners(degree, order):
     """The stencil of :func:`_corner_stencil` seen from both ends: indices ``0..r`` and ``m..m-r`` (2, r+1) and
     the weights, those of the end t = 1 times ``(-1)^r`` (reading the polygon backwards); None if it vanishes."""

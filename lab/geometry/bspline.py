@@ -22,13 +22,13 @@ from . import validation as _v
 from .bezier import dehomogenize, homogeneous
 
 __all__ = [
-    "validate_knots",
-    "domain",
-    "find_span",
     "basis_derivatives",
     "basis_rows",
+    "domain",
+    "find_span",
     "insert_knot",
     "to_bezier",
+    "validate_knots",
 ]
 
 

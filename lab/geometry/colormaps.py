@@ -22,24 +22,24 @@ import enum
 import numpy as np
 
 __all__ = [
-    "h",
-    "f1",
-    "f2",
-    "f3",
-    "symmetric",
-    "percentile",
-    "signed_log",
-    "dill",
-    "dill_names",
+    "COLOR_MAPS",
     "DILL_COLORS",
     "DILL_NAMES",
     "DILL_RANGE",
-    "COLOR_MAPS",
-    "apply",
     "ZERO_TOL",
     "ColorMap",
+    "apply",
     "colors_for",
+    "dill",
+    "dill_names",
+    "f1",
+    "f2",
+    "f3",
+    "h",
     "map_range",
+    "percentile",
+    "signed_log",
+    "symmetric",
 ]
 
 #: Default tolerance below which a value counts as zero in :func:`f3`.

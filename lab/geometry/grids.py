@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Seams", "NO_SEAMS", "weld_labels", "weld_parameters"]
+__all__ = ["NO_SEAMS", "Seams", "weld_labels", "weld_parameters"]
 
 
 class Seams(NamedTuple):

@@ -40,16 +40,16 @@ from .derivatives import Derivatives, from_homogeneous
 __all__ = [
     "CHUNK",
     "Spline",
-    "spline",
-    "point_derivatives",
-    "grouped_derivatives",
-    "map_spline_points",
-    "grid_blocks",
-    "point_blocks",
-    "map_points",
-    "map_grid",
     "as_grid",
+    "grid_blocks",
+    "grouped_derivatives",
+    "map_grid",
+    "map_points",
+    "map_spline_points",
+    "point_blocks",
+    "point_derivatives",
     "runs",
+    "spline",
 ]
 
 #: Points per chunk: the per-chunk arrays (about 1 KiB per point) stay within a core's L2 cache.

@@ -11,19 +11,19 @@ import os
 import numpy as np
 
 __all__ = [
-    "as_control_net",
-    "as_weights",
-    "as_parameters",
-    "as_parameter_vector",
-    "as_positive_int",
-    "as_choice",
-    "choice_name",
     "MEMORY_FRACTION",
+    "as_choice",
+    "as_control_net",
+    "as_parameter_vector",
+    "as_parameters",
+    "as_positive_int",
+    "as_weights",
     "available_memory",
+    "check_memory",
+    "choice_name",
+    "format_bytes",
     "memory_limit",
     "set_memory_limit",
-    "check_memory",
-    "format_bytes",
 ]
 
 

@@ -9,7 +9,7 @@ import gettext
 import os
 from pathlib import Path
 
-__all__ = ["LANGUAGES", "DOMAIN", "LOCALE_DIR", "_", "N_", "language", "set_language", "using", "translation"]
+__all__ = ["DOMAIN", "LANGUAGES", "LOCALE_DIR", "N_", "_", "language", "set_language", "translation", "using"]
 
 #: The languages the lab speaks.
 LANGUAGES = ("en", "de")

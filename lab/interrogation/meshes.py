@@ -39,14 +39,14 @@ from . import reflection as _refl
 
 __all__ = [
     "FocalSheetWarning",
-    "focal_surface",
-    "focal_sheets",
-    "parabolic_lines",
-    "stripe_mapping",
-    "reflection_lines",
-    "isophotes",
-    "polylines",
     "as_curvature_mesh",
+    "focal_sheets",
+    "focal_surface",
+    "isophotes",
+    "parabolic_lines",
+    "polylines",
+    "reflection_lines",
+    "stripe_mapping",
 ]
 
 #: Point data a mesh must carry to be interrogated.

@@ -38,22 +38,22 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = [
-    "VIEW_DIRECTION",
     "FACES",
+    "FACE_PAIRS",
+    "VIEW_DIRECTION",
     "StripeBox",
     "StripeMesh",
-    "reflect",
-    "view_vectors",
-    "stripe_box",
     "box_weights",
     "face_borders",
-    "FACE_PAIRS",
-    "stripe_phase",
-    "stripe_map",
-    "stripe_colors",
-    "split_triangles",
-    "light_line_values",
     "isophote_levels",
+    "light_line_values",
+    "reflect",
+    "split_triangles",
+    "stripe_box",
+    "stripe_colors",
+    "stripe_map",
+    "stripe_phase",
+    "view_vectors",
 ]
 
 #: The direction from the surface towards the default eye (at infinity) of the stripe mapping; the

@@ -37,7 +37,7 @@ import numpy as np
 
 from .reflection import FACE_PAIRS, StripeMesh, box_weights, face_borders, reflect, stripe_colors, stripe_phase
 
-__all__ = ["paper_stripe_map", "vertex_stripes", "color_difference", "area_difference", "colors_at", "stripe_shading"]
+__all__ = ["area_difference", "color_difference", "colors_at", "paper_stripe_map", "stripe_shading", "vertex_stripes"]
 
 
 def vertex_stripes(box, X, N, E):

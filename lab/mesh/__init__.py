@@ -8,16 +8,16 @@ from .geomview import read_cbez, read_off, write_cbez, write_off
 from .trimmed import trimmed_mesh
 
 __all__ = [
-    "weld",
+    "WELD_RTOL",
+    "color_cells",
+    "color_curvature",
     "grid_mesh",
     "patches_mesh",
-    "surface_mesh",
-    "color_curvature",
-    "color_cells",
-    "trimmed_mesh",
-    "write_off",
-    "read_off",
-    "write_cbez",
     "read_cbez",
-    "WELD_RTOL",
+    "read_off",
+    "surface_mesh",
+    "trimmed_mesh",
+    "weld",
+    "write_cbez",
+    "write_off",
 ]

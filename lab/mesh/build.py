@@ -22,14 +22,14 @@ from ..geometry.curvature import Curvature, CurvatureMode, curvature_values, uni
 from ..geometry.grids import NO_SEAMS, weld_labels
 
 __all__ = [
-    "weld",
+    "MESH_BYTES_PER_POINT",
+    "WELD_RTOL",
+    "color_cells",
+    "color_curvature",
     "grid_mesh",
     "patches_mesh",
     "surface_mesh",
-    "color_curvature",
-    "color_cells",
-    "WELD_RTOL",
-    "MESH_BYTES_PER_POINT",
+    "weld",
 ]
 
 #: Points closer than WELD_RTOL times the bounding-box diagonal are merged (unrelated patches only).

@@ -4,7 +4,7 @@ import numpy as np
 
 from .build import _faces
 
-__all__ = ["write_off", "read_off", "write_cbez", "read_cbez"]
+__all__ = ["read_cbez", "read_off", "write_cbez", "write_off"]
 
 
 def write_off(mesh, path):

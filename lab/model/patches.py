@@ -18,7 +18,7 @@ from ..geometry.curvature import CurvatureMode, curvature_values, zero_tolerance
 from ..geometry.derivatives import Derivatives, from_homogeneous
 from ..geometry.grids import NO_SEAMS, Seams
 
-__all__ = ["BezierPatches", "BezierPatch", "CurvatureMode", "ColorMap", "CORNER_U", "CORNER_V"]
+__all__ = ["CORNER_U", "CORNER_V", "BezierPatch", "BezierPatches", "ColorMap", "CurvatureMode"]
 
 #: Parameters of the four corners, indexed ``[a, b]`` for ``(u, v) = (a, b)``.
 CORNER_U = np.array([[0.0, 0.0], [1.0, 1.0]])
@@ -92,7 +92,7 @@ def _refine(P, w, grid, num):
 class BezierPatch:
     """View of one patch of a :class:`BezierPatches` collection (the practical's ``bezier_surface``)."""
 
-    __slots__ = ("_owner", "_index")
+    __slots__ = ("_index", "_owner")
 
     def __init__(self, owner, index):
         self._owner = owner

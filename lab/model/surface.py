@@ -12,12 +12,12 @@ import numpy as np
 from ..geometry import bezier, bspline
 from ..geometry import curvature as _curv
 from ..geometry import tensor as _tensor
-from ..geometry.grids import Seams
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
+from ..geometry.grids import Seams
 from .patches import BezierPatches
 
-__all__ = ["Surface", "BezierSurface", "BSplineSurface", "ParametricSurface"]
+__all__ = ["BSplineSurface", "BezierSurface", "ParametricSurface", "Surface"]
 
 
 class Surface:

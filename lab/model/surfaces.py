@@ -12,21 +12,21 @@ import numpy as np
 from .surface import BezierSurface, BSplineSurface, ParametricSurface
 
 __all__ = [
+    "REGISTRY",
+    "catenoid",
+    "cone",
+    "cylinder",
+    "hood",
+    "isodistance_geodesics_example",
+    "isodistance_sections_example",
+    "monkey_saddle",
+    "plane",
     "practical",
     "practical_height",
-    "plane",
+    "saddle",
+    "sine_wave",
     "sphere",
     "torus",
-    "cylinder",
-    "cone",
-    "catenoid",
-    "saddle",
-    "monkey_saddle",
-    "sine_wave",
-    "hood",
-    "isodistance_sections_example",
-    "isodistance_geodesics_example",
-    "REGISTRY",
 ]
 
 _S = np.sqrt(0.5)

@@ -18,7 +18,7 @@ import nbformat
 from ..i18n import LANGUAGES, _
 from .tasks import TASKS
 
-__all__ = ["Assignment", "AssignmentError", "load", "for_submission", "DEFAULT_FOLDER"]
+__all__ = ["DEFAULT_FOLDER", "Assignment", "AssignmentError", "for_submission", "load"]
 
 DEFAULT_FOLDER = Path(__file__).resolve().parents[2] / "exercises"
 

@@ -15,7 +15,7 @@ from .report import Case, Report
 from .runner import DEFAULT_TIMEOUT, run_task
 from .tasks import TASKS
 
-__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "run", "warmup", "curve_curvature", "fundamental_forms", "curvatures", "derivative_nets", "corner_derivatives", "h", "f1", "f2", "f3", "visualize_curvature", "focal_points", "reflect", "christoffel", "start_velocity", "signed_area"]
+__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "christoffel", "corner_derivatives", "curvatures", "curve_curvature", "derivative_nets", "f1", "f2", "f3", "focal_points", "fundamental_forms", "h", "reflect", "run", "signed_area", "start_velocity", "visualize_curvature", "warmup"]
 
 
 def run(task, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):

@@ -44,7 +44,7 @@ from .spec import build_report, judge_outcome
 from .tasks import TASKS
 from .tasks_curvature import ANALYTIC_BLOCK
 
-__all__ = ["GradeResult", "Prepared", "WITHHELD", "grade_notebook", "grade_folder", "main"]
+__all__ = ["WITHHELD", "GradeResult", "Prepared", "grade_folder", "grade_notebook", "main"]
 
 #: Kinds of cell errors that come from the withheld reference implementations, not from the student.
 WITHHELD = ("withheld", "follows")

@@ -4,10 +4,18 @@ import numpy as np
 
 from ..geometry import colormaps
 from ..i18n import N_, _
-from .references import MAP_LABELS, MODE_FIELD, NET_NAMES, degree_factor, expected_colors, variant_corner_derivatives, variant_curvature
+from .references import (
+    MAP_LABELS,
+    MODE_FIELD,
+    NET_NAMES,
+    degree_factor,
+    expected_colors,
+    variant_corner_derivatives,
+    variant_curvature,
+)
 from .spec import close as _close
 
-__all__ = ["VARIANT_HINTS", "hint", "diagnose_values", "diagnose_colors", "visualize_error_hint"]
+__all__ = ["VARIANT_HINTS", "diagnose_colors", "diagnose_values", "hint", "visualize_error_hint"]
 
 VARIANT_HINTS = {
     "corner_order": N_("set_curvature(c00, c01, c10, c11) and set_colors(...) take c01 = the value at u = 0, v = 1; "

@@ -58,8 +58,20 @@ from pathlib import Path
 
 import nbformat
 
-__all__ = ["LANGUAGES", "strip_code", "strip_markdown", "translate_code", "localize", "make_exercise", "digest",
-           "problems", "generate", "StudentChangesError", "SourceError", "main"]
+__all__ = [
+    "LANGUAGES",
+    "SourceError",
+    "StudentChangesError",
+    "digest",
+    "generate",
+    "localize",
+    "main",
+    "make_exercise",
+    "problems",
+    "strip_code",
+    "strip_markdown",
+    "translate_code",
+]
 
 #: The languages generated; the first is the language of the source's code and of its first markdown twin.
 LANGUAGES = ("en", "de")

@@ -10,7 +10,7 @@ from dataclasses import asdict, dataclass, field
 
 from ..i18n import N_, _, language, using
 
-__all__ = ["Case", "Report", "STATUSES"]
+__all__ = ["STATUSES", "Case", "Report"]
 
 #: Statuses of a case (and of a task): the student's code ran and was right, was wrong, raised, is a stub,
 #: ran too long, called the library's reference implementation, or was never reached.

@@ -16,7 +16,7 @@ import numpy as np
 from .protocol import MARKER, decode_args, encode_args, outcome
 from .spec import build_report, judge_outcome
 
-__all__ = ["DEFAULT_TIMEOUT", "resolve", "blocked", "run_task"]
+__all__ = ["DEFAULT_TIMEOUT", "blocked", "resolve", "run_task"]
 
 #: Seconds a student function may run in one case of a check before it is stopped.
 DEFAULT_TIMEOUT = 20.0

@@ -1,6 +1,6 @@
 """The registry of tasks: name -> :class:`~lab.teaching.spec.Task` (used by the checks and the grader)."""
 
-from .tasks_colors import F1, F2, F3, H, VISUALIZE_CURVATURE
+from .tasks_colors import F1, F2, F3, VISUALIZE_CURVATURE, H
 from .tasks_curvature import CORNER_DERIVATIVES, CURVATURES, CURVE_CURVATURE, DERIVATIVE_NETS, FUNDAMENTAL_FORMS, WARMUP
 from .tasks_interrogation import CHRISTOFFEL, FOCAL_POINTS, REFLECT, START_VELOCITY
 from .tasks_trimming import SIGNED_AREA

@@ -11,7 +11,7 @@ from .references import MODE_FIELD, MODE_LABELS, exact_corners, expected_colors,
 from .spec import CaseSpec, Task, close, fmt
 from .tasks_curvature import BEZIER_BLOCK, CURVATURE_BLOCK
 
-__all__ = ["H", "F1", "F2", "F3", "VISUALIZE_CURVATURE", "COLOR_BLOCK", "VISUALIZE_BLOCK"]
+__all__ = ["COLOR_BLOCK", "F1", "F2", "F3", "VISUALIZE_BLOCK", "VISUALIZE_CURVATURE", "H"]
 
 COLOR_BLOCK = tuple(f"lab.geometry.colormaps.{name}" for name in ("h", "f1", "f2", "f3", "apply", "colors_for"))
 VISUALIZE_BLOCK = CURVATURE_BLOCK + BEZIER_BLOCK + (

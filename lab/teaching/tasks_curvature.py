@@ -11,8 +11,16 @@ from .hints import hint as variant_hint
 from .references import NET_NAMES, degree_factor, rand_net, variant_corner_derivatives, variant_nets
 from .spec import CaseSpec, Task, close, fmt
 
-__all__ = ["WARMUP", "CURVE_CURVATURE", "FUNDAMENTAL_FORMS", "CURVATURES", "DERIVATIVE_NETS", "CORNER_DERIVATIVES",
-           "CURVATURE_BLOCK", "BEZIER_BLOCK"]
+__all__ = [
+    "BEZIER_BLOCK",
+    "CORNER_DERIVATIVES",
+    "CURVATURES",
+    "CURVATURE_BLOCK",
+    "CURVE_CURVATURE",
+    "DERIVATIVE_NETS",
+    "FUNDAMENTAL_FORMS",
+    "WARMUP",
+]
 
 #: Library functions that compute exact curvature (never callable from a task's code).
 ANALYTIC_BLOCK = tuple(f"lab.geometry.analytic.{name}" for name in (

@@ -8,7 +8,7 @@ from ..i18n import N_, _
 from .spec import CaseSpec, Task, close
 from .tasks_colors import _scalar_judge
 
-__all__ = ["FOCAL_POINTS", "REFLECT", "CHRISTOFFEL", "START_VELOCITY"]
+__all__ = ["CHRISTOFFEL", "FOCAL_POINTS", "REFLECT", "START_VELOCITY"]
 
 
 def _unit(v):

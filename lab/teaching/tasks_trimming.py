@@ -4,8 +4,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from ..interrogation.trimming import loops as _loops
 from ..i18n import N_, _
+from ..interrogation.trimming import loops as _loops
 from .spec import CaseSpec, Task, close
 from .tasks_colors import _scalar_judge
 

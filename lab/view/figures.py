@@ -11,7 +11,7 @@ import io
 
 import numpy as np
 
-__all__ = ["isodistance_figure", "trimming_figure", "PATH_COLOR", "CLOSED_COLOR", "OPEN_COLOR"]
+__all__ = ["CLOSED_COLOR", "OPEN_COLOR", "PATH_COLOR", "isodistance_figure", "trimming_figure"]
 
 PATH_COLOR = "#1f3b73"  #: the paths (normal sections or geodesics)
 CLOSED_COLOR = "#d62728"  #: closed isodistance curves

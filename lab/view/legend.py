@@ -22,7 +22,7 @@ import numpy as np
 from ..geometry import colormaps
 from ..i18n import N_, _
 
-__all__ = ["Legend", "legend", "measure_title", "nice_ticks", "format_values", "H_STOPS", "map_range"]
+__all__ = ["H_STOPS", "Legend", "format_values", "legend", "map_range", "measure_title", "nice_ticks"]
 
 #: The practical's ramp h is piecewise linear with these knots: five stops draw it exactly.
 H_STOPS = tuple((float(t), tuple(float(c) for c in colormaps.h(np.array(t)))) for t in (0.0, 0.25, 0.5, 0.75, 1.0))
@@ -91,7 +91,7 @@ def format_values(values, *, spacing=None):
     spacing = max(float(spacing), 1e-300)
     big = float(np.max(np.abs(finite))) if finite.size else 0.0
     scientific = big >= 1e6 or 0 < big < 1e-3
-    for digits in range(0, 10):
+    for digits in range(10):
         labels = []
         for x in v:
             if not math.isfinite(x):

@@ -15,10 +15,20 @@ import pyvista as pv
 
 from ..interrogation.reflection import VIEW_DIRECTION
 from . import style
-from .legend import Legend, legend as make_legend
+from .legend import Legend
+from .legend import legend as make_legend
 
-__all__ = ["configure_offscreen", "plot_mesh", "set_camera", "picture", "save", "show", "screenshot", "export_html",
-           "VIEW_DIRECTION"]
+__all__ = [
+    "VIEW_DIRECTION",
+    "configure_offscreen",
+    "export_html",
+    "picture",
+    "plot_mesh",
+    "save",
+    "screenshot",
+    "set_camera",
+    "show",
+]
 
 
 def configure_offscreen():

@@ -25,7 +25,7 @@ import math
 import numpy as np
 import pyvista as pv
 
-__all__ = ["SURFACE_PROPERTIES", "apply_lights", "fit_camera", "view_direction", "compose", "Frame", "layout", "bar_box"]
+__all__ = ["SURFACE_PROPERTIES", "Frame", "apply_lights", "bar_box", "compose", "fit_camera", "layout", "view_direction"]
 
 #: Material of coloured surfaces: mostly ambient and diffuse, a hint of specular.
 SURFACE_PROPERTIES = {"ambient": 0.5, "diffuse": 0.5, "specular": 0.08, "specular_power": 30.0}

@@ -31,16 +31,16 @@ from ...geometry import bspline
 from ...geometry import validation as _v
 
 __all__ = [
+    "TRIM_RTOL",
     "BSplineLoop",
     "circle",
     "circle_curve",
-    "rectangle",
-    "signed_area",
+    "distance_to_loop",
     "loop_intersections",
     "loops_intersections",
     "point_in_loop",
-    "distance_to_loop",
-    "TRIM_RTOL",
+    "rectangle",
+    "signed_area",
 ]
 
 

@@ -18,7 +18,7 @@ from .loops import (
     signed_area,
 )
 
-__all__ = ["Triangulation", "validate_loops", "triangulate", "boundary_edges", "MAX_MIN_ANGLE"]
+__all__ = ["MAX_MIN_ANGLE", "Triangulation", "boundary_edges", "triangulate", "validate_loops"]
 
 #: Largest minimum angle (degrees) that Triangle's quality refinement is
 #: guaranteed to reach; it may not terminate much above this (Triangle's manual).

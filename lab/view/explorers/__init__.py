@@ -8,5 +8,13 @@ from .base import Explorer, callback_threads, in_jupyter_session, live_view_poss
 from .curvature import CurvatureExplorer
 from .interrogation import FocalExplorer, GeodesicExplorer, ReflectionExplorer
 
-__all__ = ["Explorer", "CurvatureExplorer", "FocalExplorer", "ReflectionExplorer", "GeodesicExplorer",
-           "live_view_possible", "in_jupyter_session", "callback_threads"]
+__all__ = [
+           "CurvatureExplorer",
+           "Explorer",
+           "FocalExplorer",
+           "GeodesicExplorer",
+           "ReflectionExplorer",
+           "callback_threads",
+           "in_jupyter_session",
+           "live_view_possible",
+]

@@ -59,8 +59,8 @@ from .live import rendering as _rendering
 from .live import show as _show_live
 from .live import update as _update_live
 
-__all__ = ["Explorer", "live_view_choice", "live_view_possible", "in_jupyter_session", "callback_threads",
-           "checkpoint"]
+__all__ = ["Explorer", "callback_threads", "checkpoint", "in_jupyter_session", "live_view_choice",
+           "live_view_possible"]
 
 _INSTANCES = weakref.WeakSet()
 _BY_CELL = {}  # cell id -> (execution count, [weakref to explorer, ...])
@@ -385,7 +385,7 @@ class Explorer:
 
     def legend(self):
         """The :class:`lab.view.legend.Legend` of the current colours, or None."""
-        return None
+        return
 
     def legend_html(self):
         """What the view's colours mean, as HTML below the view."""
@@ -397,7 +397,7 @@ class Explorer:
 
     def _fit_mesh(self):
         """The mesh the camera is fitted to (the scene's main surface)."""
-        return None
+        return
 
     def fit_camera(self):
         """Fit the camera to the surface (the lab's oblique view) and show it."""
@@ -531,9 +531,7 @@ class Explorer:
         """Let the meshes and arrays go even while something (IPython's ``Out``, a variable) keeps the explorer."""
         for name, value in list(vars(self).items()):
             if isinstance(value, (pv.DataObject, np.ndarray)) or (
-                    isinstance(value, dict) and any(isinstance(v, pv.DataObject) for v in value.values())):
-                setattr(self, name, None)
-            elif name in ("fan", "isodistance", "_current_patches", "_base", "source", "actor", "lut", "plotter"):
+                    isinstance(value, dict) and any(isinstance(v, pv.DataObject) for v in value.values())) or name in ("fan", "isodistance", "_current_patches", "_base", "source", "actor", "lut", "plotter"):
                 setattr(self, name, None)
 
     @property

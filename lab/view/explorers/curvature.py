@@ -8,8 +8,8 @@ import pyvista as pv
 
 from ... import mesh as _mesh
 from ...geometry import colormaps
-from ...i18n import N_, _
 from ...geometry.curvature import Curvature, CurvatureMode, curvature_values, zero_tolerance
+from ...i18n import N_, _
 from ...model.patches import BezierPatches
 from .. import legend as _legend
 from .. import style

@@ -17,7 +17,7 @@ from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
 
-__all__ = ["FocalExplorer", "ReflectionExplorer", "GeodesicExplorer"]
+__all__ = ["FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"]
 
 
 def _slider(cls, description, **kwargs):

@@ -21,7 +21,7 @@ import sys
 
 import ipywidgets as W
 
-__all__ = ["show", "update", "push_camera", "release", "rendering"]
+__all__ = ["push_camera", "release", "rendering", "show", "update"]
 
 _MODES = {"client": "client", "server": "server", "trame": "trame"}
 
