@@ -105,8 +105,25 @@ def test_student_function_that_loops_is_stopped_inside_the_check(tmp_path):
     result = grading.grade_notebook(tmp_path / "00_start.ipynb", timeout=60, check_timeout=2)
     (task,) = result.tasks
     assert task["status"] == "timeout" and "warmup: stopped after 2 s" in task["message"]
-    assert {c["status"] for c in task["cases"]} == {"timeout", "not run"}  # the rest is not run, never "passed"
+    assert {c["status"] for c in task["cases"]} == {"timeout"}  # every case stopped on its own, none "passed"
     assert result.score == 0
+
+
+@pytest.mark.parametrize("ignores_interrupts", [False, True], ids=["interruptible", "ignores-interrupts"])
+def test_a_case_that_loops_costs_that_case_only(tmp_path, ignores_interrupts):
+    """The README's promise: an endless loop in one case does not zero the others (also when the loop catches
+    every exception and the kernel must be replaced)."""
+    nb = nbformat.read(SOLUTION / "00_start.ipynb", as_version=4)
+    cell = next(c for c in nb.cells if "def mean_curvature" in c.source)
+    loop = ("        while True:\n            try:\n                pass\n            except BaseException:\n"
+            "                pass\n" if ignores_interrupts else "        while True:\n            pass\n")
+    cell.source = f"def mean_curvature(k1, k2):\n    if k1 == 2.0 and k2 == -2.0:\n{loop}    return (k1 + k2) / 2"
+    nbformat.write(nb, tmp_path / "00_start.ipynb")
+    result = grading.grade_notebook(tmp_path / "00_start.ipynb", timeout=30, check_timeout=2, seed=5)
+    (task,) = result.tasks
+    statuses = [c["status"] for c in task["cases"]]
+    assert statuses[1] == "timeout" and statuses.count("passed") == len(statuses) - 1, result.text()
+    assert result.score == round(1 - 1 / len(statuses), 2)
 
 
 def test_unreadable_and_foreign_notebooks_give_messages(tmp_path):

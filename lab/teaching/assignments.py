@@ -71,32 +71,60 @@ def load(path):
                       _tasks(meta, str(path)), str(path))
 
 
+def _lookup(where, key, lang):
+    """The instructor's notebook ``key``.ipynb in ``where`` or its language folders (``lang`` first), or None."""
+    if not key:
+        return None
+    name = f"{Path(str(key)).name}.ipynb"
+    folders = [where] + [where / code for code in sorted(LANGUAGES, key=lambda code: code != lang)]
+    return next((f / name for f in folders if (f / name).is_file()), None)
+
+
+def for_path(path, assignment=None, lang=""):
+    """The instructor's assignment of a submission known only by its path (its file name), or None."""
+    where = Path(assignment) if assignment is not None else DEFAULT_FOLDER
+    if where.is_file():
+        return load(where)
+    found = _lookup(where, Path(path).stem, lang)
+    return load(found) if found is not None else None
+
+
 def for_submission(nb, path, assignment=None):
     """The instructor's assignment for a submission, and notes about mismatches.
 
-    ``assignment``: a notebook (used as is), or a folder of instructor notebooks in which the
-    submission's assignment id (or, without one, its file name) is looked up, directly in it or in its
-    language folders (the submission's language ``lab.lang`` first); default the project's ``exercises/``.
+    ``assignment``: a notebook (used as is), or a folder of instructor notebooks in which the submission is
+    looked up by its file name (the instructor's: ``collect`` names every copy after its assignment), directly
+    in it or in its language folders (the submission's language ``lab.lang`` first); only a file name that is
+    no assignment falls back to the id the notebook claims.  Default: the project's ``exercises/``.  Whatever the
+    notebook claims, its id or its task list, is only noted where it differs.
     """
     meta = nb.metadata.get("lab", {}) if isinstance(nb.metadata.get("lab"), dict) else {}
     claimed = meta.get("assignment")
+    claimed = None if claimed is None else str(claimed)[:100]
+    stem = Path(path).stem
     notes = []
     where = Path(assignment) if assignment is not None else DEFAULT_FOLDER
     if where.is_file():
         found = load(where)
-        if claimed is not None and str(claimed) != found.id:
+        if claimed is not None and claimed != found.id:
             notes.append(_("the notebook says it is assignment {claimed}; graded as {id} as instructed").format(
                 claimed=repr(claimed), id=repr(found.id)))
     else:
-        key = str(claimed) if claimed is not None else Path(path).stem
-        name = f"{Path(key).name}.ipynb"
         lang = str(meta.get("lang", ""))
-        folders = [where] + [where / code for code in sorted(LANGUAGES, key=lambda code: code != lang)]
-        candidate = next((f / name for f in folders if (f / name).is_file()), None)
-        if candidate is None:
-            raise AssignmentError(_("cannot tell which assignment {path} is (id {id} not found in {where}); pass --assignment")
-                                  .format(path=path, id=repr(key), where=where))
-        found = load(candidate)
+        by_name = _lookup(where, stem, lang)
+        if by_name is not None:
+            found = load(by_name)
+            if claimed is not None and claimed != found.id:
+                notes.append(_("the notebook says it is assignment {claimed}, its file name says {id}: graded as "
+                               "{id}").format(claimed=repr(claimed), id=repr(found.id)))
+        else:
+            by_claim = _lookup(where, claimed, lang)
+            if by_claim is None:
+                raise AssignmentError(_("cannot tell which assignment {path} is (id {id} not found in {where}); pass "
+                                        "--assignment").format(path=path, id=repr(claimed or stem), where=where))
+            found = load(by_claim)
+            notes.append(_("the file name {name} is no assignment: graded as {id}, the assignment the notebook "
+                           "names").format(name=repr(stem), id=repr(found.id)))
     own = meta.get("tasks")
     if own is not None:
         try:

@@ -12,6 +12,7 @@ BaseException and ignores SIGINT), it is killed and a new kernel re-runs the cel
 the rest of the notebook and the tasks still run.  The grader bounds the whole run from outside.
 """
 
+import contextlib
 import json
 import sys
 from pathlib import Path
@@ -26,7 +27,7 @@ from .runner_client import NotebookRunner
 #: Bytes of output kept per cell (a cell that prints gigabytes must not exhaust the sandbox's memory).
 MAX_OUTPUT = 100_000
 #: Kernel restarts allowed in one run.
-MAX_RESTARTS = 3
+MAX_RESTARTS = 6
 #: Seconds an interrupted kernel has to answer again before it is replaced.
 PROBE_TIMEOUT = 10
 
@@ -90,6 +91,8 @@ class Run:
             kind = "withheld" if MARKER in text else ("interrupted" if e.get("ename") == "KeyboardInterrupt" else "error")
             if kind == "interrupted":
                 return "timeout"
+            if e.get("ename") in ("SyntaxError", "IndentationError", "TabError"):
+                kind = "syntax"
             if kind == "error" and e.get("ename") == "NameError" and any(c["kind"] == "withheld" for c in self.cell_errors):
                 kind = "follows"  # most likely a name a withheld cell did not define
             self._cell_error(index, text[:500], kind)
@@ -101,24 +104,31 @@ class Run:
 
     def _work(self):
         """The cells, then one harness cell per task: (kind, cell index or task index)."""
-        items = [("cell", i) for i in self.code_cells]
-        for k, task in enumerate(self.spec["tasks"]):
-            source = (f"import lab.teaching.harness as _lab_harness\n_lab_harness.run(globals(), "
-                      f"{self.spec['spec_path']!r}, {k}, {str(self.out / f'task-{k}.jsonl')!r}, "
-                      f"{{start}}, {self.spec['case_timeout']!r})")
-            self.nb.cells.append(nbformat.v4.new_code_cell(source))
-            items.append(("task", len(self.nb.cells) - 1, k))
-        return items
+        return [("cell", i) for i in self.code_cells] + [("task", self._task_cell(k), k)
+                                                          for k in range(len(self.spec["tasks"]))]
+
+    def _task_cell(self, k):
+        """A new harness cell for task ``k`` (its source says from which case on when it runs)."""
+        source = (f"import lab.teaching.harness as _lab_harness\n_lab_harness.run(globals(), "
+                  f"{self.spec['spec_path']!r}, {k}, {str(self.out / f'task-{k}.jsonl')!r}, "
+                  f"{{start}}, {self.spec['case_timeout']!r})")
+        self.nb.cells.append(nbformat.v4.new_code_cell(source))
+        return len(self.nb.cells) - 1
 
     def _task_progress(self, k):
+        """The index of the last case of task ``k`` with a result (-1: none)."""
         path = self.out / f"task-{k}.jsonl"
-        if not path.exists():
-            return -1
-        done = [json.loads(line).get("index", -1) for line in path.read_text().splitlines() if line.strip().startswith("{")]
+        done = []
+        with contextlib.suppress(OSError):
+            for line in path.read_text(errors="replace").splitlines():
+                with contextlib.suppress(ValueError, AttributeError, RecursionError):
+                    index = json.loads(line).get("index", -1)
+                    done.append(index if isinstance(index, int) else -1)
         return max(done, default=-1)
 
     def _task_timeout(self, k, message, status="timeout"):
-        """Record the case in progress as timed out (or its kernel as dead); the task's remaining cases are not run."""
+        """Record the case in progress as timed out (or its kernel as dead); the task's later cases run in a new
+        kernel."""
         last = self._task_progress(k)
         with open(self.out / f"task-{k}.jsonl", "a") as fh:
             fh.write(json.dumps({"index": last + 1, "status": status, "message": message}) + "\n")
@@ -149,7 +159,7 @@ class Run:
                     except _Unresponsive as exc:
                         status, stuck = str(exc), True
                     if status == "died" and kind == "cell":
-                        self._cell_error(index, _("the kernel died (did the code exit or crash?)"), "error")
+                        self._cell_error(index, _("the kernel died (did the code exit or crash?)"), "died")
                     elif status == "died":
                         self._task_timeout(rest[0], _("the kernel died while running this case (did the code exit?)"),
                                            "error")
@@ -159,12 +169,17 @@ class Run:
                     elif status in ("timeout", "stuck"):
                         self._task_timeout(rest[0], _("stopped after {seconds} s, and it did not stop when "
                                                       "interrupted (endless loop?)").format(seconds=f"{case_timeout:g}"))
+                    if kind == "task" and status in ("died", "timeout", "stuck") and self._task_progress(rest[0]) + 1 < \
+                            len(self.spec["tasks"][rest[0]]["cases"]):
+                        items.insert(0, (kind, self._task_cell(rest[0]), rest[0]))  # the later cases, in a new kernel
                     elif kind == "cell" and status == "ok":
                         self.worked.append(index)
             self.restarts += stuck
         for kind, index, *rest in items:
             if kind == "cell":
                 self._cell_error(index, _("not run: the kernel had to be replaced too often"), "not run")
+            else:
+                self._task_timeout(rest[0], _("not run: the kernel had to be replaced too often"), "not run")
         (self.out / "cells.json").write_text(json.dumps({"cell_errors": self.cell_errors, "restarts": self.restarts}))
 
 

@@ -1,7 +1,7 @@
 """The autograder: submissions run in a sandbox, the answers and the verdicts stay outside.
 
-``curvature-lab grade NOTEBOOK.ipynb`` (or a folder of submissions) grades a notebook on the tasks of
-its assignment (the instructor's, :mod:`lab.teaching.assignments`):
+``curvature-lab grade NOTEBOOK.ipynb`` (or a folder of submissions, :mod:`lab.teaching.batch`) grades a notebook
+on the tasks of its assignment (the instructor's, :mod:`lab.teaching.assignments`):
 
 1. The grader builds every case itself from a fresh seed (recorded in the report; ``--seed`` reproduces
    a run): control nets, modes, maps, numbers.  It computes the exact answers itself, in this process.
@@ -9,27 +9,29 @@ its assignment (the instructor's, :mod:`lab.teaching.assignments`):
    kernel execute its cells under time limits, then the student's objects are called on the cases'
    inputs (:mod:`lab.teaching.child`, :mod:`lab.teaching.harness`).  The sandbox sees no answer, no
    course file and no network, and the library's reference implementations of the graded tasks are
-   withheld there.  Only plain numbers come back; they are validated (kind, shape, size) and judged here.
+   withheld there.  Only plain numbers come back; what the sandbox leaves behind is read as hostile input
+   (:mod:`lab.teaching.results`): anything malformed makes the submission's results invalid (0 points and a
+   note), never an exception of the grader.
 3. Credit is per case (weights in the report); a case that raised, ran out of time or did not run
    scores 0, the others still count.
 
-This process never runs student code and never writes the submission.  Reports and ``summary.csv`` are
-written after every sandbox has ended, each file atomically.
+This process never runs student code and never writes the submission.  Every text that comes from the
+submission is cleaned before it is shown (:func:`lab.teaching.untrusted.clean`).
 """
 
 import argparse
-import concurrent.futures
-import csv
-import io
+import hashlib
 import json
+import math
 import os
+import re
 import secrets
 import shutil
 import sys
 import tempfile
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import nbformat
@@ -39,19 +41,29 @@ from .. import i18n
 from ..i18n import _
 from . import assignments as _assignments
 from .protocol import encode_args
-from .sandbox import MEMORY, Sandbox, prepare_package
+from .results import InvalidResults, open_folder, read_cells, read_outcomes
+from .sandbox import DISK, MEMORY, Sandbox, prepare_package
 from .spec import build_report, judge_outcome
 from .tasks import TASKS
 from .tasks_curvature import ANALYTIC_BLOCK
+from .untrusted import UntrustedError, clean, read_file
 
-__all__ = ["WITHHELD", "GradeResult", "Prepared", "grade_folder", "grade_notebook", "main"]
+__all__ = ["MAX_NOTEBOOK", "VISIBILITY", "WITHHELD", "GradeResult", "Prepared", "grade_notebook", "main",
+           "read_submission", "submission_language"]
 
 #: Kinds of cell errors that come from the withheld reference implementations, not from the student.
 WITHHELD = ("withheld", "follows")
-#: Largest submission read (bytes).
+#: Largest submission read (bytes): checked on the open file, before anything is parsed.
 MAX_NOTEBOOK = 20 << 20
-#: Largest result file read back from the sandbox (bytes).
-MAX_RESULTS = 64 << 20
+#: Largest text report (characters); beyond it the report is cut with a note.
+MAX_REPORT = 256 << 10
+#: Gradescope's visibilities of results (https://gradescope-autograders.readthedocs.io).
+VISIBILITY = ("visible", "hidden", "after_due_date", "after_published")
+
+
+def _points(x):
+    """Points as every report, CSV and Gradescope file shows them: rounded to 2 decimals."""
+    return round(float(x) + 0.0, 2)
 
 
 @dataclass
@@ -68,80 +80,101 @@ class GradeResult:
     error: str = ""
     seconds: float = 0.0
     lang: str = "en"
+    student: str = ""
+    sha256: str = ""
 
     @property
     def score(self):
-        return round(sum(t["points"] * t["score"] for t in self.tasks), 2)
+        return _points(sum(_points(t["points"] * t["score"]) for t in self.tasks))
 
     @property
     def max_score(self):
-        return sum(t["points"] for t in self.tasks)
+        return _points(sum(t["points"] for t in self.tasks))
 
     @property
     def passed(self):
-        """All tasks passed; a notebook without tasks passes when all its cells ran without errors."""
-        if self.error:
-            return False
-        return all(t["passed"] for t in self.tasks) if self.tasks else not self.cell_errors
+        """Every task passed.  A notebook without graded tasks has not passed anything: 0 / 0 is not a pass."""
+        return not self.error and bool(self.tasks) and all(t["passed"] for t in self.tasks)
 
     def to_dict(self):
-        return {"notebook": self.notebook, "assignment": self.assignment, "lang": self.lang, "seed": self.seed,
-                "score": self.score,
-                "max_score": self.max_score, "passed": self.passed, "tasks": self.tasks,
-                "cell_errors": self.cell_errors, "notes": self.notes, "missing_protections": self.missing_protections,
-                "error": self.error, "seconds": round(self.seconds, 2)}
+        return {"notebook": self.notebook, "student": self.student, "assignment": self.assignment, "lang": self.lang,
+                "seed": self.seed, "score": self.score, "max_score": self.max_score, "passed": self.passed,
+                "tasks": self.tasks, "cell_errors": self.cell_errors, "notes": self.notes,
+                "missing_protections": self.missing_protections, "error": self.error,
+                "seconds": round(self.seconds, 2), "sha256": self.sha256}
+
+    @classmethod
+    def from_dict(cls, data):
+        """A result written by :meth:`to_dict` (read back by ``--resume``, ``feedback`` and ``gradebook``)."""
+        names = {f.name for f in fields(cls)}
+        return cls(**{k: v for k, v in data.items() if k in names})
 
     def text(self):
         with i18n.using(self.lang):
-            return self._text()
+            text = self._text()
+        if len(text) > MAX_REPORT:
+            text = text[:MAX_REPORT] + "\n" + _("… (the report is longer than {n} characters; cut here)").format(
+                n=MAX_REPORT)
+        return text
 
     def _text(self):
-        lines = [_("{notebook}: {score} / {max} points").format(notebook=self.notebook, score=f"{self.score:g}",
-                                                                 max=f"{self.max_score:g}")
-                 + ("  " + _("(assignment {id}, seed {seed})").format(id=self.assignment, seed=self.seed)
-                    if self.assignment else "")]
+        head = _("{notebook}: {score} / {max} points").format(notebook=clean(self.notebook, 300),
+                                                               score=f"{self.score:g}", max=f"{self.max_score:g}")
+        if self.assignment:
+            head += "  " + _("(assignment {id}, seed {seed})").format(id=clean(self.assignment, 100), seed=self.seed)
+        lines = [head]
         if self.error:
-            lines.append("  " + _("error: {message}").format(message=self.error))
+            lines.append("  " + _("error: {message}").format(message=clean(self.error)))
+        if not self.tasks and not self.error:
+            lines.append("  " + _("no graded tasks: this notebook has nothing to pass (0 / 0 is not a pass)"))
         for t in self.tasks:
-            lines.append(f"- {t['task']} ({t['object']}): {t['points'] * t['score']:.4g} / {t['points']:g}")
-            lines.extend("    " + line for line in t["report"].splitlines())
+            lines.append(f"- {t['task']} ({clean(t['object'], 100)}): {_points(t['points'] * t['score']):g} / "
+                         f"{t['points']:g}")
+            lines.extend("    " + line for line in clean(t["report"], MAX_REPORT).splitlines())
         errors = [e for e in self.cell_errors if e.get("kind") not in WITHHELD]
         withheld = [str(e["cell"]) for e in self.cell_errors if e.get("kind") in WITHHELD]
         for e in errors:
-            lines.append("  " + _("cell {index}: {error}").format(index=e["cell"], error=e["error"]))
+            lines.append("  " + _("cell {index}: {error}").format(index=e["cell"], error=clean(e["error"], 500)))
         if withheld:
             lines.append("  " + _("cells {indices}: the library's reference implementation (or a result of it) is "
                                   "withheld in the graded run; no points depend on it").format(indices=", ".join(withheld)))
-        lines.extend("  " + _("note: {note}").format(note=n) for n in self.notes)
+        lines.extend("  " + _("note: {note}").format(note=clean(n)) for n in self.notes)
         if self.missing_protections:
             lines.append("  " + _("sandbox: missing {what}").format(what="; ".join(self.missing_protections)))
         return "\n".join(lines)
 
-    def gradescope(self):
-        """Gradescope's ``results.json``: one test per task."""
-        return {
-            "score": self.score,
-            "execution_time": round(self.seconds, 2),
-            "output": self.text(),
-            "visibility": "visible",
-            "tests": [{"name": f"{t['task']} ({t['object']})", "score": round(t["points"] * t["score"], 4),
-                       "max_score": t["points"], "status": "passed" if t["passed"] else "failed",
-                       "output": t["report"]} for t in self.tasks],
-        }
+    def gradescope(self, visibility="visible"):
+        """Gradescope's ``results.json``: one test per task (its group of cases), scores rounded as everywhere."""
+        if visibility not in VISIBILITY:
+            raise ValueError(f"visibility must be one of {', '.join(VISIBILITY)}; got {visibility!r}")
+        tests = [{"name": f"{t['task']} ({clean(t['object'], 100)})", "score": _points(t["points"] * t["score"]),
+                  "max_score": t["points"], "status": "passed" if t["passed"] else "failed",
+                  "output": clean(t["report"], MAX_REPORT), "visibility": visibility} for t in self.tasks]
+        return {"score": _points(sum(t["score"] for t in tests)), "execution_time": round(self.seconds, 2),
+                "output": self.text(), "visibility": visibility, "stdout_visibility": "hidden", "tests": tests}
 
 
 class Prepared:
-    """The cases, answers and sandbox package of one assignment for one run (shared by its submissions)."""
+    """The cases and answers of one assignment for one run in one language (shared by its submissions).
 
-    def __init__(self, assignment, seed, workdir):
+    ``package``: the sandbox's copy of the library (:func:`prepare_package`); one copy serves an assignment
+    in every language.
+    """
+
+    def __init__(self, assignment, seed, package):
         self.assignment, self.seed, self.lang = assignment, seed, i18n.language()  # case names are in this language
         streams = np.random.SeedSequence(seed).spawn(len(assignment.tasks))
         self.cases = [TASKS[name].make_cases(np.random.default_rng(s), True)
                       for (name, _, _), s in zip(assignment.tasks, streams)]
-        blocked = sorted({q for name, _, _ in assignment.tasks for q in TASKS[name].blocked} | set(ANALYTIC_BLOCK))
-        self.package = prepare_package(blocked, list(TASKS), Path(workdir) / f"pkg-{assignment.id}")
+        self.package = Path(package)
         self._expected = None
         self._lock = threading.Lock()
+
+    @staticmethod
+    def package_for(assignment, workdir):
+        """The sandbox's copy of the library for ``assignment``, in ``workdir``."""
+        blocked = sorted({q for name, _, _ in assignment.tasks for q in TASKS[name].blocked} | set(ANALYTIC_BLOCK))
+        return prepare_package(blocked, list(TASKS), Path(workdir) / f"pkg-{assignment.id}")
 
     def expected(self):
         """The exact answers, per task and case (computed once, on first use)."""
@@ -158,59 +191,111 @@ class Prepared:
                           for (name, obj, _), cases in zip(self.assignment.tasks, self.cases)]}
 
 
-def _read_results(path, n):
-    """The outcome of each case from the sandbox's JSON lines (the last line per index counts)."""
-    found = {}
-    if path.is_file() and path.stat().st_size <= MAX_RESULTS:
-        for line in path.read_text(errors="replace").splitlines():
-            try:
-                item = json.loads(line)
-            except ValueError:
-                continue
-            if isinstance(item, dict) and isinstance(item.get("index"), int) and 0 <= item["index"] < n:
-                found[item["index"]] = item
-    return found
+def read_submission(path):
+    """``(raw bytes, notebook)`` of a submission: a regular file of at most :data:`MAX_NOTEBOOK` bytes (checked on
+    the open file before anything is parsed), valid nbformat 4.  Raises ``ValueError`` saying what is wrong."""
+    try:
+        raw = read_file(path, MAX_NOTEBOOK)
+    except UntrustedError as exc:
+        raise ValueError(str(exc)) from None
+    try:
+        nb = nbformat.reads(raw.decode("utf-8"), as_version=4)
+        nbformat.validate(nb)
+    except Exception as exc:  # noqa: BLE001 - any parse or schema failure: a note, not a crash
+        raise ValueError(f"{type(exc).__name__}: {clean(exc, 300)}") from None
+    return raw, nb
 
 
-def _grade_in_sandbox(raw, prepared, *, timeout, check_timeout, total_timeout, memory, use_sandbox):
-    """Run the submission ``raw`` in a sandbox; return (outcomes per task, cell info, missing protections, note)."""
+def _zero_tasks(found, message):
+    """The assignment's tasks, each with 0 points and ``message`` (a notebook that could not be graded)."""
+    tasks = []
+    for name, obj, points in found.tasks:
+        report = build_report(TASKS[name], [], [], graded=True)
+        report.message = message
+        tasks.append({**report.to_dict(), "object": obj, "points": points, "report": str(report)})
+    return tasks
+
+
+def _defining_cell(nb, name):
+    """The index of the code cell that defines ``name`` (``def name`` / ``class name`` / ``name =``), or None."""
+    pattern = re.compile(rf"^\s*(def|class)\s+{re.escape(name)}\b|^\s*{re.escape(name)}\s*=", re.MULTILINE)
+    found = [i for i, c in enumerate(nb.cells) if c.cell_type == "code" and pattern.search(c.source)]
+    return found[-1] if found else None
+
+
+def _undefined_message(nb, obj, cell_errors):
+    """Why ``obj`` was never defined, when the cell that defines it failed (a SyntaxError, a dead kernel …)."""
+    index = _defining_cell(nb, obj)
+    error = next((e for e in cell_errors if e["cell"] == index), None) if index is not None else None
+    if error is None or error["kind"] in WITHHELD:
+        return None
+    if error["kind"] == "syntax":
+        return _("{name} was never defined: cell {cell}, which defines it, has a syntax error ({error}); fix it "
+                 "and run the cell").format(name=obj, cell=index, error=error["error"])
+    if error["kind"] == "died":
+        return _("{name} was never defined: the kernel died while cell {cell}, which defines it, ran (did the code "
+                 "exit or crash?)").format(name=obj, cell=index)
+    return _("{name} was never defined: cell {cell}, which defines it, raised {error}").format(
+        name=obj, cell=index, error=error["error"])
+
+
+def _grade_in_sandbox(raw, prepared, *, timeout, check_timeout, total_timeout, memory, disk, use_sandbox):
+    """Run the submission ``raw`` in a sandbox; return (outcomes per task, cell errors, missing protections, notes)."""
     with tempfile.TemporaryDirectory(prefix="lab-grade-") as tmp:
-        work = Path(tmp) / "work"
-        (work / "out").mkdir(parents=True)
-        box = Sandbox(prepared.package, work, memory=memory, use_bwrap=use_sandbox, lang=prepared.lang)
-        inside = box.inside
-        (work / "submission.ipynb").write_bytes(raw)
-        spec = prepared.spec(inside / "submission.ipynb", inside / "out", timeout, check_timeout)
-        (work / "spec.json").write_text(json.dumps(spec))
-        result = {}
+        box = Sandbox(prepared.package, Path(tmp) / "work", memory=memory, disk=disk, use_bwrap=use_sandbox,
+                      lang=prepared.lang)
+        with box.workspace() as work:
+            (work / "out").mkdir()
+            inside = box.inside
+            (work / "submission.ipynb").write_bytes(raw)
+            spec = prepared.spec(inside / "submission.ipynb", inside / "out", timeout, check_timeout)
+            (work / "spec.json").write_text(json.dumps(spec))
+            result = {}
 
-        def run():
-            result["run"] = box.run([sys.executable, "-m", "lab.teaching.child", str(inside / "spec.json")],
-                                    total_timeout)
+            def run():
+                result["run"] = box.run([sys.executable, "-m", "lab.teaching.child", str(inside / "spec.json")],
+                                        total_timeout)
 
-        worker = threading.Thread(target=run)
-        worker.start()
-        prepared.expected()  # the answers, while the sandbox runs
-        worker.join()
-        code, timed_out, stderr = result["run"]
-        outcomes = [_read_results(work / "out" / f"task-{k}.jsonl", len(cases)) for k, cases in enumerate(prepared.cases)]
-        try:
-            info = json.loads((work / "out" / "cells.json").read_text())
-            cell_errors = [e for e in info["cell_errors"] if isinstance(e, dict)][:200]
-        except (OSError, ValueError, KeyError, TypeError):
-            cell_errors = []
-        note = ""
+            worker = threading.Thread(target=run)
+            worker.start()
+            prepared.expected()  # the answers, while the sandbox runs
+            worker.join()
+            code, timed_out, stderr = result["run"]
+            notes = []
+            try:
+                folder = open_folder(work / "out")
+                try:
+                    outcomes = [read_outcomes(folder, f"task-{k}.jsonl", len(cases))
+                                for k, cases in enumerate(prepared.cases)]
+                    cell_errors, _restarts, complete = read_cells(folder)
+                finally:
+                    os.close(folder)
+            except InvalidResults as exc:
+                outcomes, cell_errors, complete = [{} for _ in prepared.cases], [], True
+                notes.append(_("invalid results: the graded run's output was changed or is malformed ({error}); "
+                               "the submission scores 0").format(error=clean(exc, 300)))
+                return outcomes, cell_errors, box.missing, notes, True
         if timed_out:
-            note = _("the submission was stopped after {seconds} s (its time limit); cases not reached score 0").format(
-                seconds=f"{total_timeout:g}")
-        elif code != 0 and not (work / "out" / "cells.json").exists():
-            note = _("the graded run ended abnormally (exit status {code}): {stderr}").format(
-                code=code, stderr=stderr.strip()[-300:])
-        return outcomes, cell_errors, box.missing, note
+            notes.append(_("the submission was stopped after {seconds} s (its time limit); cases not reached score 0")
+                         .format(seconds=f"{total_timeout:g}"))
+        elif code != 0 and not complete:
+            notes.append(_("the graded run ended abnormally (exit status {code}): {stderr}").format(
+                code=code, stderr=clean(stderr.strip()[-300:], 300)))
+        return outcomes, cell_errors, box.missing, notes, False
+
+
+def _check_limits(timeout, check_timeout, total_timeout, memory, disk):
+    for name, value in (("timeout", timeout), ("check_timeout", check_timeout), ("total_timeout", total_timeout)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+            raise ValueError(f"{name} must be a positive number of seconds; got {value!r}")
+    for name, value, least in (("memory", memory, 256 << 20), ("disk", disk, 16 << 20)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < least:
+            raise ValueError(f"{name} must be at least {least >> 20} MiB (a kernel needs about 200 MiB); "
+                             f"got {value!r} bytes")
 
 
 def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeout=10.0, total_timeout=600,
-                   memory=MEMORY, sandbox=None, prepared=None):
+                   memory=MEMORY, disk=DISK, sandbox=None, prepared=None, submission=None):
     """Grade one notebook in a sandbox; the file is only read.
 
     Parameters
@@ -224,24 +309,31 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
     timeout : float
         Seconds each cell may run; ``check_timeout`` seconds each call of the student's code;
         ``total_timeout`` seconds the whole submission.
-    memory : int
-        Memory limit (writable data) per process in the sandbox, bytes.
+    memory, disk : int
+        Bytes of memory of the whole submission (and of writable data per process), bytes it may write.
     sandbox : bool, optional
         Use bubblewrap (default: when it works here); without it, limits and a process group only.
     prepared : Prepared, optional
         Cases and answers shared by a folder run.
+    submission : (bytes, notebook), optional
+        What :func:`read_submission` gave, when the caller has read it already.
     """
+    _check_limits(timeout, check_timeout, total_timeout, memory, disk)
     start = time.perf_counter()
     path = Path(path)
     result = GradeResult(str(path), lang=i18n.language())
     try:
-        if path.stat().st_size > MAX_NOTEBOOK:
-            raise ValueError(_("the notebook is larger than {size} MiB").format(size=MAX_NOTEBOOK >> 20))
-        raw = path.read_bytes()
-        nb = nbformat.reads(raw.decode("utf-8"), as_version=4)
-    except Exception as exc:  # unreadable notebook: a result, not a crash
-        result.error = _("cannot read the notebook: {error}").format(error=f"{type(exc).__name__}: {exc}")
+        raw, nb = read_submission(path) if submission is None else submission
+    except ValueError as exc:
+        result.error = _("cannot read the notebook: {error}").format(error=exc)
+        try:
+            found = _assignments.for_path(path, assignment)
+        except _assignments.AssignmentError:
+            found = None
+        if found is not None:  # 0 out of the assignment's points, not 0 / 0
+            result.assignment, result.tasks = found.id, _zero_tasks(found, result.error)
         return result
+    result.sha256 = hashlib.sha256(raw).hexdigest()
     result.lang = submission_language(nb)
     with i18n.using(result.lang):
         try:
@@ -252,23 +344,28 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
         own = None
         if prepared is None or prepared.assignment != found or prepared.lang != result.lang:
             own = tempfile.mkdtemp(prefix="lab-grade-pkg-")
-            prepared = Prepared(found, secrets.randbelow(2**32) if seed is None else int(seed), own)
+            prepared = Prepared(found, secrets.randbelow(2**32) if seed is None else int(seed),
+                                Prepared.package_for(found, own))
         try:
             result.assignment, result.seed = found.id, prepared.seed
-            outcomes, result.cell_errors, result.missing_protections, note = _grade_in_sandbox(
+            outcomes, result.cell_errors, result.missing_protections, notes, invalid = _grade_in_sandbox(
                 raw, prepared, timeout=timeout, check_timeout=check_timeout, total_timeout=total_timeout,
-                memory=memory, use_sandbox=sandbox)
+                memory=memory, disk=disk, use_sandbox=sandbox)
             expected = prepared.expected()
         finally:
             if own is not None:
                 shutil.rmtree(own, ignore_errors=True)
-        if note:
-            result.notes.append(note)
-        for k, (name, obj, points) in enumerate(found.tasks):
+        result.notes += notes
+        if invalid:
+            result.tasks = _zero_tasks(found, notes[-1])
+        for k, (name, obj, points) in enumerate(found.tasks if not invalid else ()):
             task = TASKS[name]
+            why = _undefined_message(nb, obj, result.cell_errors)
             judged = []
             for i, case in enumerate(prepared.cases[k]):
                 out = outcomes[k].get(i, {"status": "not run", "message": _("the graded run ended before this case")})
+                if out.get("undefined") and why:
+                    out = {"status": "error", "message": why}
                 judged.append(judge_outcome(task, case, out, lambda k=k, i=i: expected[k][i]))
             report = build_report(task, prepared.cases[k], judged, graded=True, seed=prepared.seed)
             result.tasks.append({**report.to_dict(), "object": obj, "points": points, "report": str(report)})
@@ -283,85 +380,65 @@ def submission_language(nb):
     return lang if lang in i18n.LANGUAGES else i18n.language()
 
 
-def _student(folder, nb_path):
-    rel = nb_path.relative_to(folder)
-    return (rel.parts[0] if len(rel.parts) > 1 else nb_path.stem), rel
-
-
-def _write_atomic(path, text):
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+def write_atomic(path, text):
+    """Write ``text`` to ``path`` through a temporary file in the same folder and a rename."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
     tmp.write_text(text)
     os.replace(tmp, path)
 
 
-def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt="text", **kwargs):
-    """Grade every notebook under ``folder`` in parallel sandboxes; write reports and ``summary.csv`` to ``out_dir``.
-
-    A submission is ``folder/<student>.ipynb`` or ``folder/<student>/<notebook>.ipynb``.  One seed serves
-    the whole run (recorded in every report).  Nothing is written until every sandbox has ended.
-    """
-    folder, out_dir = Path(folder).resolve(), Path(out_dir)
-    notebooks = sorted(p for p in folder.rglob("*.ipynb")
-                       if ".ipynb_checkpoints" not in p.parts and not p.resolve().is_relative_to(out_dir.resolve()))
-    seed = secrets.randbelow(2**32) if seed is None else int(seed)
-    jobs = max(1, jobs or os.cpu_count() or 1)
-    tmp = tempfile.mkdtemp(prefix="lab-grade-pkg-")
-    prepared, lock = {}, threading.Lock()
-
-    def one(nb_path):
+def _positive(kind):
+    def parse(text):
         try:
-            nb = nbformat.read(str(nb_path), as_version=4)
-            found, _notes = _assignments.for_submission(nb, nb_path, assignment)
-        except Exception:  # grade_notebook reports it
-            return grade_notebook(nb_path, assignment=assignment, seed=seed, **kwargs)
-        lang = submission_language(nb)
-        with lock, i18n.using(lang):
-            if (found.id, lang) not in prepared:
-                prepared[found.id, lang] = Prepared(found, seed, tmp)
-        return grade_notebook(nb_path, assignment=assignment, prepared=prepared[found.id, lang], **kwargs)
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number; got {text!r}") from None
+        if not math.isfinite(value) or value <= 0:
+            raise argparse.ArgumentTypeError(f"expected a positive number; got {text!r}")
+        return value
 
-    try:
-        with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-            results = list(pool.map(one, notebooks))
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    rows = []
-    for nb_path, res in zip(notebooks, results):
-        student, rel = _student(folder, nb_path)
-        res.notebook = str(rel)
-        stem = "__".join(rel.with_suffix("").parts)
-        _write_atomic(out_dir / f"{stem}.json", json.dumps(res.to_dict(), indent=2, ensure_ascii=False))
-        _write_atomic(out_dir / f"{stem}.txt", res.text() + "\n")
-        if fmt == "gradescope":
-            _write_atomic(out_dir / f"{stem}.results.json", json.dumps(res.gradescope(), indent=2, ensure_ascii=False))
-        tasks = "; ".join(f"{t['task']}={t['points'] * t['score']:.4g}/{t['points']:g}" for t in res.tasks)
-        rows.append([student, str(rel), res.score, res.max_score, res.passed, res.assignment, res.seed, tasks,
-                     res.error])
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(["student", "notebook", "score", "max_score", "passed", "assignment", "seed", "tasks", "error"])
-    w.writerows(rows)
-    _write_atomic(out_dir / "summary.csv", buf.getvalue())
-    return results
+    return parse
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(
+        prog="curvature-lab grade",
+        description="Grade curvature-lab notebooks (one, or a folder of submissions) in a sandbox. A folder is "
+                    "SUBS/<student>/<assignment>.ipynb (as `curvature-lab collect` writes it) or SUBS/<student>.ipynb.")
+    parser.add_argument("path", help="a notebook, or a folder of submissions")
+    parser.add_argument("--assignment", help="the instructor's notebook, or a folder of them (also its en/, de/; "
+                                             "default: exercises/)")
+    parser.add_argument("--out", help="folder for the reports and summary.csv (folder mode; default: <path>-reports; "
+                                      "a notebook with --format gradescope: where results.json goes)")
+    parser.add_argument("-j", "--jobs", type=int, default=None, help="submissions graded in parallel (default: all cores)")
+    parser.add_argument("--seed", type=int, default=None, help="seed of the cases (default: fresh, recorded in the report)")
+    parser.add_argument("--resume", action="store_true",
+                        help="folder mode: keep the reports of an interrupted run (same seed, same notebooks), grade "
+                             "the rest")
+    parser.add_argument("--format", choices=("text", "json", "gradescope"), default="text", help="report format")
+    parser.add_argument("--json", action="store_true", help="the same as --format json")
+    parser.add_argument("--visibility", choices=VISIBILITY, default="visible",
+                        help="Gradescope: when students see the results (default: visible)")
+    parser.add_argument("--timeout", type=_positive(float), default=60, help="seconds per cell (default 60)")
+    parser.add_argument("--check-timeout", type=_positive(float), default=10,
+                        help="seconds per call of the student's code (default 10)")
+    parser.add_argument("--total-timeout", type=_positive(float), default=600,
+                        help="seconds per submission (default 600)")
+    parser.add_argument("--memory", type=_positive(int), default=MEMORY >> 20,
+                        help="MiB of memory per submission, all its processes and files together (default 2048)")
+    parser.add_argument("--disk", type=_positive(int), default=DISK >> 20,
+                        help="MiB a submission may write (default 512)")
+    parser.add_argument("--no-sandbox", action="store_true",
+                        help="grade without bubblewrap (limits and a process group only: the submission can read "
+                             "the course's files); required to grade a folder where bubblewrap cannot run")
+    return parser
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(
-        prog="curvature-lab grade",
-        description="Grade curvature-lab notebooks (one, or a folder of submissions) in a sandbox.")
-    parser.add_argument("path", help="a notebook, or a folder of submissions")
-    parser.add_argument("--assignment", help="the instructor's notebook, or a folder of them (also its en/, de/; default: exercises/)")
-    parser.add_argument("--out", help="folder for the reports and summary.csv (folder mode; default: <path>-reports)")
-    parser.add_argument("-j", "--jobs", type=int, default=None, help="submissions graded in parallel (default: all cores)")
-    parser.add_argument("--seed", type=int, default=None, help="seed of the cases (default: fresh, recorded in the report)")
-    parser.add_argument("--format", choices=("text", "json", "gradescope"), default="text", help="report format")
-    parser.add_argument("--json", action="store_true", help="the same as --format json")
-    parser.add_argument("--timeout", type=float, default=60, help="seconds per cell (default 60)")
-    parser.add_argument("--check-timeout", type=float, default=10, help="seconds per call of the student's code (default 10)")
-    parser.add_argument("--total-timeout", type=float, default=600, help="seconds per submission (default 600)")
-    parser.add_argument("--memory", type=int, default=MEMORY >> 20, help="MiB of memory (writable data) per process (default 2048)")
-    parser.add_argument("--no-sandbox", action="store_true", help="do not use bubblewrap (limits and a process group only)")
+    from . import batch
+
+    parser = build_parser()
     args = parser.parse_args(argv)
     fmt = "json" if args.json else args.format
     path = Path(args.path)
@@ -369,26 +446,39 @@ def main(argv=None):
         parser.error(f"{path} does not exist")
     if args.jobs is not None and args.jobs < 1:
         parser.error(f"--jobs must be at least 1; got {args.jobs}")
+    if args.memory < 256:
+        parser.error(f"--memory must be at least 256 (MiB; a kernel needs about 200); got {args.memory}")
+    if args.disk < 16:
+        parser.error(f"--disk must be at least 16 (MiB); got {args.disk}")
     kwargs = {"timeout": args.timeout, "check_timeout": args.check_timeout, "total_timeout": args.total_timeout,
-              "memory": args.memory << 20, "sandbox": False if args.no_sandbox else None}
+              "memory": args.memory << 20, "disk": args.disk << 20, "sandbox": False if args.no_sandbox else None}
     if path.is_dir():
         out = Path(args.out) if args.out else path.with_name(path.name + "-reports")
-        results = grade_folder(path, out, jobs=args.jobs, assignment=args.assignment, seed=args.seed, fmt=fmt, **kwargs)
+        try:
+            results = batch.grade_folder(path, out, jobs=args.jobs, assignment=args.assignment, seed=args.seed,
+                                         fmt=fmt, resume=args.resume, visibility=args.visibility, **kwargs)
+        except batch.GradingError as exc:
+            print(f"curvature-lab grade: error: {exc}", file=sys.stderr)
+            return 2
         if fmt == "json":
             print(json.dumps([r.to_dict() for r in results], indent=2, ensure_ascii=False))
         else:
             for r in results:
-                print(f"{r.notebook}: {r.score:g} / {r.max_score:g}" + (f"  ({r.error})" if r.error else ""))
+                print(clean(f"{r.notebook}: {r.score:g} / {r.max_score:g}" + (f"  ({r.error})" if r.error else ""), 400))
             print(f"reports and summary.csv in {out}")
         return 0 if results and all(r.passed for r in results) else 1
     if path.suffix != ".ipynb":
         parser.error(f"expected a .ipynb notebook or a folder; got {path}")
+    if args.resume:
+        parser.error("--resume applies to a folder of submissions")
     result = grade_notebook(path, assignment=args.assignment, seed=args.seed, **kwargs)
+    for what in result.missing_protections:
+        print(f"curvature-lab grade: warning: missing protection: {what}", file=sys.stderr)
     if fmt == "gradescope":
-        text = json.dumps(result.gradescope(), indent=2, ensure_ascii=False)
+        text = json.dumps(result.gradescope(args.visibility), indent=2, ensure_ascii=False)
         if args.out:
             Path(args.out).mkdir(parents=True, exist_ok=True)
-            _write_atomic(Path(args.out) / "results.json", text)
+            write_atomic(Path(args.out) / "results.json", text)
         else:
             print(text)
     else:

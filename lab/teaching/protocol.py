@@ -69,10 +69,27 @@ def time_limit(seconds):
 
 
 def _array(value):
-    a = np.asarray(value, dtype=float)
+    """A numeric array as plain numbers; strings, None, booleans, complex numbers and objects are refused."""
+    if value is None:
+        raise BadOutput(_("None (did the function forget to return its result?)"))
+    if isinstance(value, (str, bytes)):
+        raise BadOutput(_("text {text}, not a number").format(text=_short(value)))
+    a = np.asarray(value)
+    if a.dtype.kind == "b" or isinstance(value, bool):
+        raise BadOutput(_("True/False, not a number"))
+    if a.dtype.kind == "c":
+        raise BadOutput(_("complex numbers {text}; the result must be real").format(text=_short(value)))
+    if a.dtype.kind not in "iuf":
+        raise TypeError(f"not numbers: {a.dtype}")
+    a = a.astype(float)
     if a.size > MAX_VALUES:
         raise BadOutput(_("{n} values; at most {limit} are read").format(n=a.size, limit=MAX_VALUES))
     return {"shape": list(a.shape), "data": [float(x) for x in a.ravel()]}
+
+
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 200 else text[:200] + " …"
 
 
 def encode(value):
@@ -89,15 +106,16 @@ def encode(value):
             return {"kind": "arrays", "items": [_array(v) for v in value]}
         except (TypeError, ValueError, OverflowError):
             pass
-    text = repr(value)
-    raise BadOutput(text if len(text) <= 200 else text[:200] + " …")
+    raise BadOutput(_short(value))
 
 
 def _decode_array(obj):
     if not isinstance(obj, dict) or not isinstance(obj.get("shape"), list) or not isinstance(obj.get("data"), list):
         raise ValueError("malformed array")
-    shape = tuple(int(s) for s in obj["shape"])
-    if any(s < 0 for s in shape) or math.prod(shape) != len(obj["data"]) or len(obj["data"]) > MAX_VALUES:
+    if len(obj["shape"]) > 8 or not all(type(s) is int and 0 <= s <= MAX_VALUES for s in obj["shape"]):
+        raise ValueError("malformed array shape")
+    shape = tuple(obj["shape"])
+    if math.prod(shape) != len(obj["data"]) or len(obj["data"]) > MAX_VALUES:
         raise ValueError(f"array of shape {shape} with {len(obj['data'])} values")
     if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in obj["data"]):
         raise ValueError("array with non-numbers")
@@ -219,7 +237,14 @@ def outcome(protocol, obj, args, timeout):
         return {"status": "not implemented", "message": str(exc) or _("not implemented yet")}
     except BadOutput as exc:
         return {"status": "bad output", "message": str(exc)}
-    except Exception as exc:
+    except KeyboardInterrupt:
+        return {"status": "timeout", "message": _("interrupted (KeyboardInterrupt) before it finished")}
+    except SystemExit as exc:
+        return {"status": "error", "message": _("your code called exit (SystemExit: {code}); return a result instead").format(
+            code=exc.code)}
+    except BaseException as exc:  # noqa: BLE001 - whatever student code raises becomes this case's error
+        if isinstance(exc, GeneratorExit):
+            exc = RuntimeError("GeneratorExit")
         if _used or MARKER in str(exc):
             return {"status": "delegated", "message": ", ".join(sorted(set(_used))) or str(exc)}
         where = _student_location(exc, _files_of(obj))

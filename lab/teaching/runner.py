@@ -9,6 +9,7 @@ answers outside (:mod:`lab.teaching.grading`).
 
 import contextlib
 import importlib
+import math
 import secrets
 
 import numpy as np
@@ -65,12 +66,26 @@ def blocked(qualnames):
             func.__code__ = code
 
 
+def _options(seed, timeout, graded):
+    """The check's own options, validated (a bad option is the caller's mistake, not the student code's)."""
+    if seed is None:
+        seed = secrets.randbelow(2**32)  # recorded in the report: it reproduces the cases
+    elif isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer; got {seed!r}")
+    if isinstance(timeout, bool) or not isinstance(timeout, (int, float, np.number)) or not math.isfinite(timeout) \
+            or timeout <= 0:
+        raise ValueError(f"timeout must be a positive number of seconds; got {timeout!r}")
+    if not isinstance(graded, bool):
+        raise TypeError(f"graded must be True or False; got {graded!r}")
+    return int(seed), float(timeout)
+
+
 def run_task(task, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
     """Run every case of ``task`` on the student's ``obj`` here, judge it, and return the Report.
 
     After a case that ran out of time the remaining cases are not run (they would most likely loop too).
     """
-    seed = secrets.randbelow(2**32) if seed is None else int(seed)  # recorded in the report: it reproduces the cases
+    seed, timeout = _options(seed, timeout, graded)
     cases = task.make_cases(np.random.default_rng(seed), graded)
     results, stop = [], False
     for case in cases:

@@ -10,29 +10,30 @@ Inside the sandbox the student's notebook sees:
 * no network (a new network namespace with loopback only: nbclient and the kernel talk over it), its own
   process namespace (every process ends with the sandbox), no capabilities, nothing else of the course.
 
-Limits apply to every process in it: memory (writable data), CPU time, file size, open files; a pids cgroup caps
-the number of processes where the cgroup file system is writable.  Where ``bwrap`` cannot run, the
-submission runs in its own session and process group with the same limits, and
-:attr:`Sandbox.missing` names the protections that are missing.
+Limits apply to the submission as a whole where the cgroup file system is writable (:mod:`lab.teaching.cgroups`:
+memory including what it writes to tmpfs, processes and threads, an equal CPU weight beside every other
+submission) and to every process in it (writable data, CPU time, file size, open files).  Its working folder is
+a tmpfs of :data:`DISK` bytes (root only) and its ``/tmp`` one of the same size.  Where ``bwrap`` cannot run, the
+submission runs in its own session and process group with the same limits.  :attr:`Sandbox.missing` names
+every protection that is missing; the grader shows them in each report, in ``summary.csv`` and on stderr,
+and refuses to grade a folder without bubblewrap unless told to (``--no-sandbox``).
 """
 
 import ast
 import compileall
 import contextlib
-import ctypes
 import functools
+import json
 import os
-import resource
 import shutil
 import signal
 import subprocess
 import sys
 import tempfile
-import time
-import uuid
 from pathlib import Path
 
-from ..i18n import _
+from ..i18n import N_, _
+from . import cgroups
 from .runner import stub_source
 
 __all__ = ["Sandbox", "bwrap_works", "prepare_package"]
@@ -45,10 +46,12 @@ SYSTEM_PATHS = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/etc/alter
                 "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/fonts", "/etc/passwd", "/etc/group",
                 "/etc/nsswitch.conf", "/etc/localtime", "/etc/mime.types", "/usr/share/glvnd")
 MEMORY = 2 << 30
+#: Bytes a submission may write to its working folder, and to its /tmp.
+DISK = 512 << 20
 CPU_SECONDS = 900
 FILE_SIZE = 256 << 20
 OPEN_FILES = 1024
-PROCESSES = 256
+PROCESSES = 256  # processes and threads of a submission together (a kernel has about 10 threads)
 
 
 def _strip_module(path, module, names):
@@ -118,26 +121,22 @@ def bwrap_works():
         return False
     try:
         done = subprocess.run([exe, "--unshare-net", "--unshare-pid", "--die-with-parent", "--ro-bind", "/", "/",
-                               "--proc", "/proc", "--dev", "/dev", "true"], capture_output=True, timeout=30)
+                               "--proc", "/proc", "--dev", "/dev", "true"], capture_output=True, timeout=30, check=False)
     except (OSError, subprocess.TimeoutExpired):
         return False
     return done.returncode == 0
 
 
-def _pids_cgroup():
-    """A fresh pids cgroup (v1 or v2) limited to PROCESSES, or None where the cgroup file system is not writable."""
-    for base in (Path("/sys/fs/cgroup/pids"), Path("/sys/fs/cgroup")):
-        if not (base / "cgroup.procs").is_file() or not os.access(base, os.W_OK):
-            continue
-        path = base / f"lab-grade-{uuid.uuid4().hex[:12]}"
-        try:
-            path.mkdir()
-            (path / "pids.max").write_text(str(PROCESSES))
-            return path
-        except OSError:
-            with contextlib.suppress(OSError):
-                path.rmdir()
-    return None
+#: What a run without bubblewrap lacks (translated when shown).
+WITHOUT_BWRAP = (N_("filesystem isolation (the course's files are readable)"), N_("network isolation"),
+                 N_("process isolation (a process that starts its own session can outlive the grading)"))
+#: Limits of a submission as a whole, and the missing protection each one's absence means.
+MISSING = {"memory limit per submission": N_("memory limit per submission (including /tmp): each process has its own"),
+           "process count limit": N_("process count limit (no writable pids cgroup; root ignores RLIMIT_NPROC)"),
+           "equal CPU share": N_("equal CPU share (no writable cpu cgroup: a submission with many processes slows "
+                                 "the others)"),
+           "disk budget": N_("disk budget for the working folder (no tmpfs could be mounted: only the file size is "
+                             "limited)")}
 
 
 class Sandbox:
@@ -150,28 +149,45 @@ class Sandbox:
     workdir : Path
         The submission's fresh folder (the only writable place); it appears as ``/grade`` inside.
     memory : int
-        Memory limit (writable data: heap and anonymous mappings) per process, bytes.
+        Memory of the whole submission, bytes: all its processes together and what they write to ``/tmp``
+        and the working folder (a memory cgroup); also the limit of writable data per process.
+    disk : int
+        Bytes the submission may write into its working folder (a size-limited tmpfs) and into ``/tmp``.
     use_bwrap : bool or None
         None: use it when it works here.
     lang : str
         The language of the messages produced inside (``LAB_LANG``).
     """
 
-    def __init__(self, package, workdir, *, memory=MEMORY, use_bwrap=None, lang="en"):
+    def __init__(self, package, workdir, *, memory=MEMORY, disk=DISK, use_bwrap=None, lang="en"):
         self.package = Path(package)
         self.lang = lang
         self.workdir = Path(workdir)
         self.memory = int(memory)
+        self.disk = int(disk)
         self.bwrap = bwrap_works() if use_bwrap is None else bool(use_bwrap)
-        self.missing = [] if self.bwrap else [
-            _("filesystem isolation (the course's files are readable)"), _("network isolation"),
-            _("process isolation (a process that starts its own session can outlive the grading)")]
+        self.missing = [] if self.bwrap else [_(m) for m in WITHOUT_BWRAP]
         self.cgroup = None
+        self.peak_memory = None
 
     @property
     def inside(self):
         """Where the submission's folder appears to the code in the sandbox."""
         return Path("/grade") if self.bwrap else self.workdir
+
+    @contextlib.contextmanager
+    def workspace(self):
+        """The working folder for the block, on a tmpfs of :attr:`disk` bytes where one can be mounted."""
+        self.workdir.mkdir(parents=True, exist_ok=True)
+        with cgroups.mount_budget(self.workdir, self.disk) as mounted:
+            if not mounted:
+                self._missing("disk budget")
+            yield self.workdir
+
+    def _missing(self, key):
+        text = _(MISSING[key])
+        if text not in self.missing:
+            self.missing.append(text)
 
     def _env(self):
         home = "/tmp/home" if self.bwrap else str(self.workdir / ".home")
@@ -182,10 +198,11 @@ class Sandbox:
             "MPLCONFIGDIR": f"{home}/mpl", "IPYTHONDIR": f"{home}/ipython", "JUPYTER_RUNTIME_DIR": f"{home}/runtime",
             "JUPYTER_DATA_DIR": f"{home}/data", "JUPYTER_CONFIG_DIR": f"{home}/config",
             "PYTHONDONTWRITEBYTECODE": "1", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
-            "MKL_NUM_THREADS": "1", "PYTHONHASHSEED": "0",
+            "MKL_NUM_THREADS": "1", "PYTHONHASHSEED": "0", "LP_NUM_THREADS": "1",
         }
         if not self.bwrap:
             env["PYTHONPATH"] = str(self.package.parent)
+            env["TMPDIR"] = str(self.workdir / ".tmp")  # on the working folder's budget, not the host's /tmp
         return env
 
     def command(self, argv):
@@ -194,8 +211,8 @@ class Sandbox:
         cmd = [shutil.which("bwrap"), "--unshare-net", "--unshare-pid", "--unshare-ipc", "--unshare-uts",
                "--unshare-cgroup-try", "--die-with-parent", "--new-session", "--cap-drop", "ALL",
                # the private /tmp first: the binds below go on top of it (a course checked out under /tmp
-               # keeps its Python and its lab copy visible)
-               "--tmpfs", "/tmp", "--dir", "/tmp/home", "--proc", "/proc", "--dev", "/dev"]
+               # keeps its Python and its lab copy visible); its size is capped (it is host memory)
+               "--size", str(self.disk), "--tmpfs", "/tmp", "--dir", "/tmp/home", "--proc", "/proc", "--dev", "/dev"]
         for p in SYSTEM_PATHS:
             cmd += ["--ro-bind-try", p, p]
         for p in sorted({sys.base_prefix, sys.prefix, str(Path(sys.executable).resolve().parent.parent)}):
@@ -207,39 +224,42 @@ class Sandbox:
         return cmd + list(argv)
 
     def _limits(self):
-        """Resource limits of the child (runs after fork, before exec); it dies with the grader."""
-        with contextlib.suppress(OSError, AttributeError):
-            ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-        for which, value in ((resource.RLIMIT_DATA, self.memory), (resource.RLIMIT_CPU, CPU_SECONDS),
-                             (resource.RLIMIT_FSIZE, FILE_SIZE), (resource.RLIMIT_NOFILE, OPEN_FILES),
-                             (resource.RLIMIT_CORE, 0)):
-            resource.setrlimit(which, (value, value))
+        """The launcher's limits (:mod:`lab.teaching.launch`): per process, and the submission's cgroups."""
+        rlimits = {"data": self.memory, "cpu": CPU_SECONDS, "fsize": FILE_SIZE, "nofile": OPEN_FILES, "core": 0}
         if os.getuid() != 0:
-            resource.setrlimit(resource.RLIMIT_NPROC, (PROCESSES, PROCESSES))
-        if self.cgroup is not None:
-            (self.cgroup / "cgroup.procs").write_text(str(os.getpid()))
+            rlimits["nproc"] = PROCESSES
+        return {"rlimits": rlimits, "cgroups": [str(p) for p in self.cgroup.procs] if self.cgroup else []}
 
     def run(self, argv, timeout):
         """Run ``argv`` in the sandbox for at most ``timeout`` seconds; every process it started ends with it.
 
         Returns ``(returncode, timed_out, stderr_tail)``.
         """
-        self.cgroup = _pids_cgroup()
-        if self.cgroup is None and os.getuid() == 0:
-            self.missing.append(_("process count limit (no writable pids cgroup; root ignores RLIMIT_NPROC)"))
+        self.cgroup, missing = cgroups.create(self.memory, PROCESSES)
+        for key in missing:
+            if key != "process count limit" or os.getuid() == 0:  # RLIMIT_NPROC counts where not root
+                self._missing(key)
         env = None if self.bwrap else {**self._env()}
         if not self.bwrap:
             Path(env["HOME"]).mkdir(exist_ok=True)
+            Path(env["TMPDIR"]).mkdir(exist_ok=True)
+        with tempfile.NamedTemporaryFile("w", suffix=".json", prefix="lab-limits-", delete=False) as fh:
+            json.dump(self._limits(), fh)
+        # the launcher as a script in isolated mode: it needs no lab, and the child's PYTHONPATH must not matter
+        launcher = [sys.executable, "-I", str(Path(__file__).with_name("launch.py")), fh.name, "--"]
         err = tempfile.TemporaryFile()
-        proc = subprocess.Popen(self.command(argv), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err,
-                                env=env, cwd=str(self.workdir), preexec_fn=self._limits, start_new_session=True)
-        timed_out = False
         try:
-            proc.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            timed_out = True
+            proc = subprocess.Popen(launcher + self.command(argv), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                    stderr=err, env=env, cwd=str(self.workdir), start_new_session=True)
+            timed_out = False
+            try:
+                proc.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                timed_out = True
+            finally:
+                self._kill(proc)
         finally:
-            self._kill(proc)
+            os.unlink(fh.name)
         err.seek(0)
         tail = err.read()[-4000:].decode("utf-8", "replace")
         err.close()
@@ -253,13 +273,5 @@ class Sandbox:
             proc.kill()
         proc.wait()
         if self.cgroup is not None:
-            for _attempt in range(50):
-                pids = [int(p) for p in (self.cgroup / "cgroup.procs").read_text().split()]
-                if not pids:
-                    break
-                for pid in pids:
-                    with contextlib.suppress(OSError):
-                        os.kill(pid, signal.SIGKILL)
-                time.sleep(0.05)
-            with contextlib.suppress(OSError):
-                self.cgroup.rmdir()
+            self.peak_memory = self.cgroup.peak_memory()
+            self.cgroup.remove()

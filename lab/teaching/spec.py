@@ -73,8 +73,9 @@ def judge_outcome(task, case, outcome, expected_fn):
 
     ``expected_fn()`` gives the exact answer; it is only called when the code returned numbers.
     """
-    status = outcome.get("status")
-    message = str(outcome.get("message", ""))[:2000]
+    status = outcome.get("status") if isinstance(outcome, dict) else None
+    status = status if isinstance(status, str) else repr(status)[:40]
+    message = str(outcome.get("message", "") if isinstance(outcome, dict) else "")[:2000]
     if status == "ok":
         try:
             from .protocol import decode

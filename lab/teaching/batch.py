@@ -1,0 +1,253 @@
+"""Grading a folder of submissions: ``curvature-lab grade SUBS --out REPORTS -j N [--resume]``.
+
+A submission is ``SUBS/<student>/<notebook>.ipynb`` (what ``curvature-lab collect`` writes) or
+``SUBS/<student>.ipynb``.  Every notebook is graded by :func:`lab.teaching.grading.grade_notebook` in its own
+sandbox, ``jobs`` at a time, with one seed for the whole run:
+
+* **Only plain files** are graded: a symbolic link (to a classmate's notebook, the solution, a host file),
+  a file with further hard links, a FIFO or a device is refused and reported, never read.  A notebook is
+  size-checked on the open file before it is parsed.
+* **One failure stops nothing**: a submission that crashes the grader itself becomes that submission's
+  error (the traceback, naming the notebook, goes to stderr); the others are graded.
+* **Reports are written as soon as a submission is done**, each atomically (``<name>.json``,
+  ``<name>.txt``, for Gradescope ``<name>.results.json``); names are made unique when two submissions
+  would share one (the collision is noted).  ``run.json`` records the seed and the assignment, so
+  ``--resume`` after a crash or a stop grades only what has no report yet (or whose notebook changed);
+  ``summary.csv`` is written at the end from every report.
+* **No silent fallback**: where bubblewrap cannot run, a folder is graded only with ``--no-sandbox``; the
+  protections missing are printed on stderr and listed in ``summary.csv``.
+* ``summary.csv`` has a row per submission and per refused file (columns :data:`SUMMARY_COLUMNS`); every
+  cell is cleaned and can never be a spreadsheet formula.  With ``SUBS/collected.csv`` (from ``collect``)
+  the hand-in time and lateness of each student are copied into it.
+"""
+
+import concurrent.futures
+import csv
+import hashlib
+import io
+import json
+import os
+import secrets
+import shutil
+import sys
+import tempfile
+import threading
+import traceback
+from pathlib import Path
+
+from .. import i18n
+from ..i18n import _
+from . import assignments as _assignments
+from .grading import GradeResult, Prepared, grade_notebook, read_submission, submission_language, write_atomic
+from .sandbox import bwrap_works
+from .untrusted import clean, csv_cell, plain_file
+
+__all__ = ["SUMMARY_COLUMNS", "GradingError", "find_submissions", "grade_folder", "read_summary", "report_names"]
+
+SUMMARY_COLUMNS = ("student", "notebook", "score", "max_score", "passed", "assignment", "seed", "tasks", "error",
+                   "submitted", "late", "late_seconds", "notes", "missing_protections")
+
+
+class GradingError(ValueError):
+    """A folder run that cannot start (nothing to grade, no sandbox, a resume that does not match)."""
+
+
+def find_submissions(folder, skip=None):
+    """``(notebooks, refused)`` under ``folder``: plain ``.ipynb`` files, and ``(path, reason)`` of those refused.
+
+    Folders are walked without following symbolic links; ``.ipynb_checkpoints`` and ``skip`` (the reports
+    folder) are left out.
+    """
+    folder = Path(folder)
+    skip = Path(skip).resolve() if skip is not None else None
+    notebooks, refused = [], []
+    for here, dirs, files in os.walk(folder, followlinks=False):
+        here = Path(here)
+        dirs[:] = sorted(d for d in dirs if d != ".ipynb_checkpoints" and (skip is None or (here / d).resolve() != skip))
+        for d in list(dirs):
+            if (here / d).is_symlink():
+                dirs.remove(d)
+                refused.append((here / d, "a symbolic link"))
+        for name in sorted(files):
+            path = here / name
+            if not name.endswith(".ipynb"):
+                continue
+            why = plain_file(path, folder)
+            (refused.append((path, why)) if why else notebooks.append(path))
+    return notebooks, refused
+
+
+def _student(folder, path):
+    rel = Path(path).relative_to(folder)
+    return (rel.parts[0] if len(rel.parts) > 1 else Path(path).stem), rel
+
+
+def report_names(folder, paths):
+    """``{path: (report stem, note or "")}``: ``student__notebook``, made unique where two would collide."""
+    names, used = {}, set()
+    for path in paths:
+        _student_name, rel = _student(folder, path)
+        stem = "__".join(rel.with_suffix("").parts)
+        stem = "".join(c if c.isalnum() or c in "._-" else "_" for c in stem)[:150] or "submission"
+        unique, k = stem, 1
+        while unique.lower() in used:
+            k += 1
+            unique = f"{stem}~{k}"
+        used.add(unique.lower())
+        note = "" if unique == stem else f"its report name {stem!r} was taken by another submission: {unique!r}"
+        names[path] = (unique, note)
+    return names
+
+
+def _read_collected(folder):
+    """``{student: row}`` of ``folder/collected.csv`` (written by ``curvature-lab collect``), or {}."""
+    path = Path(folder) / "collected.csv"
+    if not path.is_file() or path.is_symlink():
+        return {}
+    with open(path, newline="") as fh:
+        return {row.get("student", ""): row for row in csv.DictReader(fh)}
+
+
+def _summary_row(student, rel, res, collected):
+    late = collected.get(student, {})
+    tasks = "; ".join(f"{t['task']}={t['points'] * t['score']:.4g}/{t['points']:g}" for t in res.tasks)
+    values = {"student": student, "notebook": str(rel), "score": res.score, "max_score": res.max_score,
+              "passed": res.passed, "assignment": res.assignment, "seed": res.seed, "tasks": tasks,
+              "error": res.error, "submitted": late.get("submitted", ""), "late": late.get("late", ""),
+              "late_seconds": late.get("late_seconds", ""), "notes": " | ".join(res.notes),
+              "missing_protections": "; ".join(res.missing_protections)}
+    return [csv_cell(values[c]) for c in SUMMARY_COLUMNS]
+
+
+def read_summary(path):
+    """The rows of a ``summary.csv`` as dicts (text; numbers left for the caller)."""
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _run_record(out_dir, seed, assignment, resume):
+    """The seed of the run: from ``run.json`` when resuming (it must agree with ``seed`` if given)."""
+    record = out_dir / "run.json"
+    if resume and record.is_file():
+        old = json.loads(record.read_text())
+        if seed is not None and int(seed) != old["seed"]:
+            raise GradingError(f"--resume: the reports in {out_dir} were graded with seed {old['seed']}, not {seed}")
+        if str(assignment) != old.get("assignment"):
+            raise GradingError(f"--resume: the reports in {out_dir} were graded against {old.get('assignment')}, "
+                               f"not {assignment}")
+        return old["seed"]
+    seed = secrets.randbelow(2**32) if seed is None else int(seed)
+    write_atomic(record, json.dumps({"seed": seed, "assignment": str(assignment)}))
+    return seed
+
+
+def _resumed(path, stem, out_dir, seed):
+    """The result already in ``out_dir`` for this notebook (same seed, same bytes), or None."""
+    report = out_dir / f"{stem}.json"
+    if not report.is_file():
+        return None
+    try:
+        data = json.loads(report.read_text())
+        raw, _nb = read_submission(path)
+    except (ValueError, OSError):
+        return None
+    if data.get("seed") != seed or data.get("sha256") != hashlib.sha256(raw).hexdigest():
+        return None
+    return GradeResult.from_dict(data)
+
+
+def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt="text", resume=False,
+                 visibility="visible", sandbox=None, log=sys.stderr, **kwargs):
+    """Grade every notebook under ``folder`` in parallel sandboxes; reports and ``summary.csv`` into ``out_dir``.
+
+    Returns the results, in the order of the submissions.  See the module docstring.
+    """
+    folder, out_dir = Path(folder).resolve(), Path(out_dir)
+    if not folder.is_dir():
+        raise GradingError(f"{folder} is not a folder of submissions")
+    if sandbox is None and not bwrap_works():
+        raise GradingError("bubblewrap (bwrap) cannot run here, so a submission could read the course's files and "
+                           "the other submissions. Install it (apt install bubblewrap) or, knowing this, pass "
+                           "--no-sandbox")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    notebooks, refused = find_submissions(folder, skip=out_dir)
+    if not notebooks and not refused:
+        raise GradingError(f"no notebooks (.ipynb) in {folder}")
+    names = report_names(folder, notebooks + [p for p, _ in refused])
+    seed = _run_record(out_dir, seed, assignment, resume)
+    jobs = max(1, jobs or os.cpu_count() or 1)
+    tmp = tempfile.mkdtemp(prefix="lab-grade-pkg-")
+    prepared, packages, lock = {}, {}, threading.Lock()
+    warned = set()
+
+    def one(nb_path):
+        stem, note = names[nb_path]
+        student, rel = _student(folder, nb_path)
+        if resume and (done := _resumed(nb_path, stem, out_dir, seed)) is not None:
+            return done
+        try:
+            try:
+                submission = read_submission(nb_path)
+            except ValueError:
+                submission = None  # grade_notebook reports it
+            shared = None
+            if submission is not None:
+                lang = submission_language(submission[1])
+                with i18n.using(lang):
+                    try:
+                        found, _notes = _assignments.for_submission(submission[1], nb_path, assignment)
+                    except _assignments.AssignmentError:
+                        found = None
+                    if found is not None:
+                        with lock:
+                            if found.id not in packages:
+                                packages[found.id] = Prepared.package_for(found, tmp)
+                            if (found.id, lang) not in prepared:
+                                prepared[found.id, lang] = Prepared(found, seed, packages[found.id])
+                            shared = prepared[found.id, lang]
+            res = grade_notebook(nb_path, assignment=assignment, seed=seed, prepared=shared, submission=submission,
+                                 sandbox=sandbox, **kwargs)
+        except Exception as exc:  # noqa: BLE001 - one submission's failure never stops the others
+            print(f"curvature-lab grade: internal error while grading {clean(rel, 300)}:\n{traceback.format_exc()}",
+                  file=log)
+            res = GradeResult(str(rel), error=_("internal error of the grader while grading this notebook ({error}); "
+                                                "it scores 0 here, grade it again alone").format(
+                                                    error=clean(f"{type(exc).__name__}: {exc}", 300)))
+        res.notebook, res.student = str(rel), student
+        if note:
+            res.notes.append(note)
+        for what in res.missing_protections:
+            if what not in warned:
+                warned.add(what)
+                print(f"curvature-lab grade: warning: missing protection: {what}", file=log)
+        _write_reports(out_dir, stem, res, fmt, visibility)
+        return res
+
+    try:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+            results = list(pool.map(one, notebooks))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    for path, why in refused:
+        student, rel = _student(folder, path)
+        res = GradeResult(str(rel), student=student, error=_("refused: {why}; a submission must be a plain notebook "
+                                                             "file").format(why=why))
+        with i18n.using("en"):
+            _write_reports(out_dir, names[path][0], res, fmt, visibility)
+        results.append(res)
+    collected = _read_collected(folder)
+    buf = io.StringIO()
+    writer = csv.writer(buf)
+    writer.writerow(SUMMARY_COLUMNS)
+    for res in results:
+        writer.writerow(_summary_row(res.student, res.notebook, res, collected))
+    write_atomic(out_dir / "summary.csv", buf.getvalue())
+    return results
+
+
+def _write_reports(out_dir, stem, res, fmt, visibility):
+    write_atomic(out_dir / f"{stem}.json", json.dumps(res.to_dict(), indent=2, ensure_ascii=False))
+    write_atomic(out_dir / f"{stem}.txt", res.text() + "\n")
+    if fmt == "gradescope":
+        write_atomic(out_dir / f"{stem}.results.json", json.dumps(res.gradescope(visibility), indent=2,
+                                                                  ensure_ascii=False))
