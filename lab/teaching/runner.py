@@ -52,11 +52,13 @@ def _stub_code(name):
 @contextlib.contextmanager
 def blocked(qualnames):
     """Make the named library functions raise (and record their use) while the block runs."""
-    saved = []
+    saved, seen = [], set()
     for name in qualnames:
-        func = getattr(resolve(name), "__func__", resolve(name))
-        if getattr(func, "__code__", None) is None or func.__closure__:
+        func = resolve(name)
+        func = func.fget if isinstance(func, property) else getattr(func, "__func__", func)
+        if getattr(func, "__code__", None) is None or func.__closure__ or id(func) in seen:
             continue
+        seen.add(id(func))
         saved.append((func, func.__code__))
         func.__code__ = _stub_code(name)
     try:

@@ -13,20 +13,17 @@ from .tasks_curvature import BEZIER_BLOCK, CURVATURE_BLOCK
 
 __all__ = ["COLOR_BLOCK", "F1", "F2", "F3", "VISUALIZE_BLOCK", "VISUALIZE_CURVATURE", "H"]
 
-COLOR_BLOCK = tuple(f"lab.geometry.colormaps.{name}" for name in ("h", "f1", "f2", "f3", "apply", "colors_for"))
-VISUALIZE_BLOCK = CURVATURE_BLOCK + BEZIER_BLOCK + (
-    "lab.geometry.colormaps.apply",
-    "lab.geometry.colormaps.colors_for",
+#: The maps and what applies them; ``symmetric`` is f2 after a shift of the values.
+COLOR_BLOCK = tuple(f"lab.geometry.colormaps.{name}" for name in ("h", "f1", "f2", "f3", "apply", "colors_for",
+                                                                   "symmetric"))
+#: Everything that computes curvature or its colours (h, f1, f2, f3 are allowed: the student's own map functions
+#: may be replaced by the library's).
+VISUALIZE_BLOCK = tuple(dict.fromkeys(CURVATURE_BLOCK + BEZIER_BLOCK + COLOR_BLOCK[4:] + (
     "lab.geometry.curvature.curvature_values",
     "lab.model.patches.BezierPatches.visualize_curvature",
     "lab.model.patches.BezierPatches.corner_curvature",
-    "lab.model.patches.BezierPatches.corner_derivatives",
     "lab.model.patches.BezierPatches.curvature_at",
-    "lab.model.patches.BezierPatches.derivatives",
-    "lab.model.surface.Surface.curvature",
-    "lab.model.surface.Surface.derivatives",
-    "lab.model.surface.Surface.fundamental_forms",
-)
+)))
 
 
 def _scalar_judge(hint_fn, what=N_("one number")):

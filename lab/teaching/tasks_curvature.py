@@ -25,14 +25,22 @@ __all__ = [
 #: Library functions that compute exact curvature (never callable from a task's code).
 ANALYTIC_BLOCK = tuple(f"lab.geometry.analytic.{name}" for name in (
     "curvature_from_derivatives", "curvature_exprs", "exact_curvature", "bezier_derivatives_exact",
-    "bezier_curvature_exact", "bezier_corner_curvature_exact"))
+    "bezier_curvature_exact", "bezier_corner_curvature_exact", "_bernstein_exact"))
+#: What computes fundamental forms, normals or curvature from derivatives, also through a surface object built
+#: on the given vectors (a ParametricSurface whose derivatives are the case's inputs).
 CURVATURE_BLOCK = ANALYTIC_BLOCK + tuple(f"lab.geometry.curvature.{name}" for name in (
-    "from_derivatives", "fundamental_forms", "principal_curvatures", "unit_normal"))
+    "from_derivatives", "fundamental_forms", "principal_curvatures", "unit_normal")) + tuple(
+    f"lab.model.surface.Surface.{name}" for name in ("normal", "fundamental_forms", "curvature", "curvature_grid",
+                                                      "_curvature"))
+#: What computes derivative nets or derivatives of a Bézier patch (the corner stencils too).
 BEZIER_BLOCK = tuple(f"lab.geometry.bezier.{name}" for name in (
-    "derivative_net", "derivatives", "corner_derivatives", "_corner_values")) + (
+    "derivative_net", "derivatives", "corner_derivatives", "_corner_values", "_corner_stencil", "_both_corners",
+    "_evaluate_nets")) + (
     "lab.geometry.bspline.basis_derivatives", "lab.geometry.bspline.basis_rows",
     "lab.geometry.tensor.point_derivatives", "lab.geometry.tensor.grouped_derivatives",
-    "lab.geometry.tensor.grid_blocks")
+    "lab.geometry.tensor.grid_blocks", "lab.geometry.analytic._bernstein_exact",
+    "lab.model.surface.Surface.derivatives", "lab.model.patches.BezierPatches.corner_derivatives",
+    "lab.model.patches.BezierPatches.derivatives")
 
 
 def _number(value):

@@ -123,8 +123,8 @@ def _christoffel_hint(args, val, exp):
 
 _SIX = N_("six numbers (Γ¹₁₁, Γ¹₁₂, Γ¹₂₂, Γ²₁₁, Γ²₁₂, Γ²₂₂)")
 CHRISTOFFEL = Task("christoffel", _christoffel_cases, _christoffel_expected, _scalar_judge(_christoffel_hint, _SIX),
-                   blocked=("lab.interrogation.geodesics.problem.christoffel",
-                            "lab.interrogation.geodesics.problem._christoffel_symbols"),
+                   blocked=tuple(f"lab.interrogation.geodesics.problem.{name}" for name in (
+                       "christoffel", "_christoffel_symbols", "_second_kind", "_second_kind_of")),
                    summary=_SIX)
 
 

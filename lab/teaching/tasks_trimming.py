@@ -69,5 +69,6 @@ def _hint(args, val, exp):
 #: (negative), so the trimmed region lies to the left of every loop.
 SIGNED_AREA = Task("signed_area", _cases, lambda c: _exact_area(c.args[0]),
                    _scalar_judge(_hint, N_("one number (the signed area)")),
-                   blocked=("lab.interrogation.trimming.loops.signed_area",),
+                   blocked=("lab.interrogation.trimming.loops.signed_area",
+                            "lab.interrogation.trimming.surface.TrimmedSurface.area_uv"),
                    summary=N_("one number (the signed area)"))
