@@ -1,12 +1,17 @@
 """Hostile submissions (tests/data/hostile/, built by build.py there): each scores 0 and changes nothing outside.
 
 One folder run grades them all, beside a classmate with the reference solution, a canary file and a
-correct alternative implementation.  Afterwards every file outside the reports folder is byte-identical,
-no file has appeared, no process an attack started is alive, and summary.csv is unchanged a while later.
+correct alternative implementation, and beside the attacks that live in the folder itself: symbolic links to a
+classmate's notebook, to the solution and to a host file, a report name that collides with a classmate's, a
+student folder named like a spreadsheet formula, a 25 MiB notebook.  Afterwards every file outside the reports
+folder is byte-identical, no file has appeared, no process an attack started is alive, summary.csv is
+unchanged a while later, the classmates have full marks and no false time-outs, and no report holds a control
+character a student wrote.
 """
 
 import csv
 import os
+import re
 import shutil
 import time
 from pathlib import Path
@@ -60,6 +65,14 @@ class MyBezierPatches(lab.BezierPatches):
 '''
 
 
+#: submissions that are symbolic links: to a classmate's notebook, to the instructor's solution, to a host file
+LINKS = {"alice": lambda subs: Path("..") / "ada" / "05_visualize_curvature.ipynb",
+         "mallory": lambda subs: ROOT / "solutions" / "en" / "05_visualize_curvature.ipynb",
+         "trudy": lambda subs: Path("/etc/passwd")}
+FORMULA = '=HYPERLINK("http:__example.org","10")'
+#: What an attack that tried a limit says it achieved (a cell error it raised at the end).
+ACHIEVED = re.compile(r"wrote (\d+) MiB|(\d+) of 8 processes held 400 MiB, (\d+) still alive|started (\d+) busy")
+
 pytestmark = pytest.mark.xdist_group("hostile")  # the folder run (both cores for minutes) happens once
 
 
@@ -96,14 +109,25 @@ def graded(tmp_path_factory):
     nbformat.write(nb, subs / "eve" / "05_visualize_curvature.ipynb")
     (subs / "canary.txt").write_text("canary\n")
     (course / "canary.txt").write_text("canary\n")
+    for name, target in LINKS.items():  # links in the folder: git clones and zip uploads keep them
+        (subs / name).mkdir()
+        (subs / name / "05_visualize_curvature.ipynb").symlink_to(target(subs))
+    (subs / "bob").mkdir()  # bob's report would be overwritten by bob__05_visualize_curvature.ipynb's
+    shutil.copy(ROOT / "solutions" / "en" / "05_visualize_curvature.ipynb", subs / "bob" / "05_visualize_curvature.ipynb")
+    shutil.copy(ASSIGNMENT, subs / "bob__05_visualize_curvature.ipynb")
+    (subs / FORMULA).mkdir()
+    shutil.copy(ASSIGNMENT, subs / FORMULA / "05_visualize_curvature.ipynb")
+    (subs / "huge").mkdir()
+    with open(subs / "huge" / "05_visualize_curvature.ipynb", "wb") as fh:
+        fh.write(b'{"cells": [], "metadata": {}, "nbformat": 4, "nbformat_minor": 5, "x": "' + b"x" * (25 << 20) + b'"}')
     out = course / "reports"
     before = snapshot(course, out)
     results = grading.grade_folder(subs, out, jobs=2, seed=20261201, assignment=ASSIGNMENT, timeout=8,
                                    check_timeout=2, total_timeout=240)
     summary = (out / "summary.csv").read_text()
     time.sleep(8)  # the detached processes of an attack would strike after 4 s
-    return {"results": {Path(r.notebook).parts[0]: r for r in results}, "before": before, "course": course,
-            "out": out, "summary": summary}
+    return {"results": {Path(r.notebook).parts[0] if len(Path(r.notebook).parts) > 1 else r.notebook: r
+                        for r in results}, "before": before, "course": course, "out": out, "summary": summary}
 
 
 @pytest.mark.parametrize("name", [p.stem for p in HOSTILE])
@@ -115,9 +139,74 @@ def test_each_attack_scores_zero(graded, name):
 
 
 def test_the_classmates_get_their_marks(graded):
-    for student in ("ada", "eve"):  # the reference solution, and a correct one written differently
+    for student in ("ada", "eve", "bob"):  # the reference solution, a correct one written differently
         result = graded["results"][student]
         assert result.score == 10, result.text()
+        # beside 48 busy processes of another submission: an equal CPU share, so no false "endless loop?"
+        assert not [e for e in result.cell_errors if e["kind"] in ("timeout", "died")], result.text()
+
+
+@pytest.mark.parametrize("name", list(LINKS))
+def test_symbolic_links_are_refused_never_read(graded, name):
+    result = graded["results"][name]
+    assert result.score == 0 and "refused: a symbolic link" in result.error
+    for path in graded["out"].iterdir():
+        assert "root:x:0:0" not in path.read_text(errors="replace")  # /etc/passwd never reached a report
+
+
+def test_results_files_forged_in_the_sandbox_make_the_results_invalid(graded):
+    for name in ("results_bad_status", "results_deep_json", "results_infinite_shape"):
+        result = graded["results"][name]
+        assert any(n.startswith("invalid results") for n in result.notes), result.text()
+        assert result.max_score == 10 and result.score == 0
+
+
+def test_report_names_do_not_collide_and_formulas_are_quoted(graded):
+    rows = list(csv.DictReader(graded["summary"].splitlines()))
+    students = [r["student"] for r in rows]
+    assert students.count("bob") == 1 and "bob__05_visualize_curvature" in students
+    bob = next(r for r in rows if r["student"] == "bob")
+    assert float(bob["score"]) == 10  # his report was not overwritten by the look-alike's
+    assert (graded["out"] / "bob__05_visualize_curvature.json").is_file()
+    assert (graded["out"] / "bob__05_visualize_curvature~2.json").is_file()
+    formula = next(r for r in rows if "HYPERLINK" in r["student"])
+    assert formula["student"].startswith("'=")
+    assert all(not cell.startswith(("=", "+", "@")) for r in rows for cell in r.values() if cell)
+
+
+def test_no_control_character_a_student_wrote_reaches_a_report(graded):
+    texts = [graded["summary"]] + [p.read_text() for p in graded["out"].iterdir() if p.suffix in (".txt", ".json")]
+    for text in texts:
+        assert not any(ord(c) < 32 and c not in "\n\t" or 0x7F <= ord(c) < 0xA0 for c in text), text[:300]
+    report = (graded["out"] / "escape_sequences__05_visualize_curvature.txt").read_text()
+    assert "\\x1b[2J" in report  # shown, harmless
+    assert graded["results"]["escape_sequences"].score == 0
+
+
+def test_a_huge_notebook_is_refused_before_it_is_parsed(graded):
+    result = graded["results"]["huge"]
+    assert "at most 20971520 are read" in result.error and result.max_score == 10 and result.score == 0
+
+
+def test_a_claimed_assignment_does_not_change_what_is_graded(graded):
+    result = graded["results"]["claims_another_assignment"]
+    assert result.assignment == "05_visualize_curvature" and result.max_score == 10 and not result.passed
+    assert any("says it is assignment '09_dill_gallery'" in n for n in result.notes)
+
+
+def test_limits_hold_per_submission(graded):
+    """Memory (including /tmp), disk and processes are limited for the submission as a whole."""
+    said = {}
+    for name in ("memory_in_tmp", "memory_in_processes", "disk_fill", "cpu_hog_setsid"):
+        errors = " ".join(e["error"] for e in graded["results"][name].cell_errors)
+        said[name] = ACHIEVED.search(errors)
+        assert graded["results"][name].score == 0
+    assert said["memory_in_tmp"] and int(said["memory_in_tmp"].group(1)) <= 512  # /tmp: 512 MiB, not 1.5 GiB
+    assert said["disk_fill"] and int(said["disk_fill"].group(1)) <= 512  # the working folder: 512 MiB, not 1.5 GiB
+    kernel_died = any(e["kind"] == "died" for e in graded["results"]["memory_in_processes"].cell_errors)
+    held = said["memory_in_processes"]
+    assert kernel_died or int(held.group(3)) * 400 < 2048, held.group(0)  # 2 GiB for all processes together
+    assert said["cpu_hog_setsid"] is None or int(said["cpu_hog_setsid"].group(4)) <= 48
 
 
 def test_nothing_outside_the_sandbox_changed(graded):

@@ -14,6 +14,7 @@ the rest of the notebook and the tasks still run.  The grader bounds the whole r
 
 import contextlib
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -180,7 +181,9 @@ class Run:
                 self._cell_error(index, _("not run: the kernel had to be replaced too often"), "not run")
             else:
                 self._task_timeout(rest[0], _("not run: the kernel had to be replaced too often"), "not run")
-        (self.out / "cells.json").write_text(json.dumps({"cell_errors": self.cell_errors, "restarts": self.restarts}))
+        tmp = self.out / f".cells.{os.getpid()}.json"  # then a rename: whatever the submission put there is replaced
+        tmp.write_text(json.dumps({"cell_errors": self.cell_errors, "restarts": self.restarts}))
+        os.replace(tmp, self.out / "cells.json")
 
 
 def main(argv=None):

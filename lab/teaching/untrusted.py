@@ -176,5 +176,5 @@ def csv_cell(value):
     """A value for a CSV cell: text cleaned (one line) and never read as a formula by a spreadsheet."""
     if isinstance(value, (int, float, bool)) or value is None:
         return "" if value is None else value
-    text = clean(value, keep_newlines=False).replace("\n", " ")
+    text = clean(str(value).replace("\r\n", " ").replace("\n", " "))
     return "'" + text if text[:1] in ("=", "+", "-", "@", "\t", "\r") else text

@@ -294,6 +294,179 @@ class MyBezierPatches(lab.BezierPatches):
             patch.set_curvature(1.0, 1.0, 1.0, 1.0)
             patch.set_colors(*[(1.0, 0.0, 0.0)] * 4)
 ''',
+    # -- issue 19: the files the sandbox leaves behind, forged ------------------------------------------------
+    "results_bad_status": """
+import lab
+
+with open("/grade/out/task-0.jsonl", "a") as fh:
+    fh.write('{"index": 0, "status": []}\\n')
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+""",
+    "results_deep_json": """
+import lab
+
+with open("/grade/out/task-0.jsonl", "a") as fh:
+    fh.write("[" * 200000 + "]" * 200000 + "\\n")
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+""",
+    "results_infinite_shape": """
+import json
+import lab
+
+line = {"index": 0, "status": "ok", "value": {"kind": "patches", "curvature": {"shape": [float("inf")], "data": []},
+                                              "colors": {"shape": [float("inf")], "data": []}}}
+with open("/grade/out/task-0.jsonl", "a") as fh:
+    fh.write(json.dumps(line) + "\\n")
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+""",
+    "results_cells_forged": f"""
+import subprocess, sys
+import lab
+
+# a process that keeps replacing cells.json (the child writes it last) until the sandbox ends: by a link to
+# /dev/zero, a FIFO, and an entry without "cell" beside 200 errors of 1 MiB each, in turn
+forge = '''
+import json, os, time
+out = "/grade/out"
+k = 0
+while True:
+    k += 1
+    tmp = os.path.join(out, f".forged{{k}}")
+    try:
+        if k % 3 == 0:
+            os.symlink("/dev/zero", tmp)
+        elif k % 3 == 1:
+            os.mkfifo(tmp)
+        else:
+            with open(tmp, "w") as fh:
+                json.dump({{"cell_errors": [{{"error": "x", "kind": "error"}}] + [{{"cell": 1, "error": "y" * (1 << 20),
+                          "kind": "error"}}] * 200, "restarts": 0}}, fh)
+        os.replace(tmp, os.path.join(out, "cells.json"))
+    except OSError:
+        pass
+    time.sleep(0.001)  # {MARK}
+'''
+subprocess.Popen([sys.executable, "-c", forge], start_new_session=True, stdin=subprocess.DEVNULL,
+                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+""",
+    # -- student text that would reach the instructor raw ---------------------------------------------------
+    "escape_sequences": """
+import lab
+
+FORGED = "\\x1b[2J\\x1b[H\\x1b]0;graded\\x07ada: 10 / 10 points\\n  \\u2714 visualize_curvature: all 17 cases passed.\\x1b[8m"
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        raise RuntimeError(FORGED)
+
+
+raise RuntimeError(FORGED)
+""",
+    # -- limits per submission, not per process -------------------------------------------------------------
+    "memory_in_tmp": """
+import lab
+
+written = 0
+try:
+    with open("/tmp/fill.bin", "wb") as fh:
+        for _ in range(1536):
+            fh.write(b"x" * (1 << 20))
+            fh.flush()
+            written += 1
+except OSError:
+    pass
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+
+
+raise RuntimeError(f"wrote {written} MiB to /tmp")
+""",
+    "memory_in_processes": f"""
+import subprocess, sys, time
+import lab
+
+hold = "b = bytearray(400 << 20)\\nb[::4096] = b'x' * len(b[::4096])\\nprint('held', flush=True)\\nimport time; time.sleep(600)  # {MARK}"
+procs = [subprocess.Popen([sys.executable, "-c", hold], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+         for _ in range(8)]
+held = sum(p.stdout.readline().strip() == b"held" for p in procs)
+time.sleep(2)
+alive = sum(p.poll() is None for p in procs)
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+
+
+raise RuntimeError(f"{{held}} of 8 processes held 400 MiB, {{alive}} still alive")
+""",
+    "disk_fill": """
+import lab
+
+written = 0
+try:
+    for k in range(6):
+        with open(f"fill{k}.bin", "wb") as fh:
+            for _ in range(256):
+                fh.write(b"x" * (1 << 20))
+                fh.flush()
+                written += 1
+except OSError:
+    pass
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+
+
+raise RuntimeError(f"wrote {written} MiB to the working folder")
+""",
+    "cpu_hog_setsid": f"""
+import subprocess, sys
+import lab
+
+spin = "import os; os.setsid()\\nwhile True: pass  # {MARK}"
+procs = [subprocess.Popen([sys.executable, "-c", spin]) for _ in range(48)]
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        import time
+        time.sleep(0.5)
+
+
+raise RuntimeError(f"started {{len(procs)}} busy processes")
+""",
+    "claims_another_assignment": """
+import lab
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+""",
 }
 
 METADATA = {
@@ -301,6 +474,10 @@ METADATA = {
     "metadata_task_twice": [{"task": "warmup", "object": "mean", "points": 10},
                             {"task": "warmup", "object": "mean", "points": 10}],
 }
+
+
+#: attacks that change the notebook's claimed assignment id
+CLAIMS = {"claims_another_assignment": "09_dill_gallery"}
 
 
 def build():
@@ -315,6 +492,8 @@ def build():
             nb.cells.insert(at + k, nbformat.v4.new_code_cell(extra.strip() + "\n"))
         if name in METADATA:
             nb.metadata["lab"]["tasks"] = METADATA[name]
+        if name in CLAIMS:
+            nb.metadata["lab"]["assignment"] = CLAIMS[name]
         nb.metadata["lab"].pop("generated_digest", None)
         nbformat.write(nb, str(HERE / f"{name}.ipynb"))
 
