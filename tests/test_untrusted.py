@@ -129,3 +129,12 @@ def test_plain_files_only(tmp_path):
     with pytest.raises(untrusted.UntrustedError, match="has 12 bytes; at most 5"):
         (tmp_path / "c.ipynb").write_text("x" * 12)
         untrusted.read_file(tmp_path / "c.ipynb", 5)
+
+
+def test_a_forged_value_makes_the_results_invalid(out):
+    folder, fd = out
+    line = {"index": 0, "status": "ok", "value": {"kind": "patches", "curvature": {"shape": [float("inf")], "data": []},
+                                                 "colors": {"shape": [1], "data": [0.0]}}}
+    (folder / "task-0.jsonl").write_text(json.dumps(line) + "\n")
+    with pytest.raises(results.InvalidResults, match="not what the harness writes"):
+        results.read_outcomes(fd, "task-0.jsonl", 3)

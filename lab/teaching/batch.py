@@ -38,7 +38,15 @@ from pathlib import Path
 from .. import i18n
 from ..i18n import _
 from . import assignments as _assignments
-from .grading import GradeResult, Prepared, grade_notebook, read_submission, submission_language, write_atomic
+from .grading import (
+    GradeResult,
+    Prepared,
+    _zero_tasks,
+    grade_notebook,
+    read_submission,
+    submission_language,
+    write_atomic,
+)
 from .sandbox import bwrap_works
 from .untrusted import clean, csv_cell, plain_file
 
@@ -236,6 +244,10 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
             _write_reports(out_dir, names[path][0], res, fmt, visibility)
         results.append(res)
     collected = _read_collected(folder)
+    graded = {r.student for r in results}
+    for student, row in sorted(collected.items()):
+        if row.get("status") != "collected" and student not in graded:  # listed by collect: no submission
+            results.append(_missing(student, row, assignment, out_dir, fmt, visibility))
     buf = io.StringIO()
     writer = csv.writer(buf)
     writer.writerow(SUMMARY_COLUMNS)
@@ -243,6 +255,24 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
         writer.writerow(_summary_row(res.student, res.notebook, res, collected))
     write_atomic(out_dir / "summary.csv", buf.getvalue())
     return results
+
+
+def _missing(student, row, assignment, out_dir, fmt, visibility):
+    """The result of a student ``collect`` found no notebook for: 0 out of the assignment's points."""
+    aid = row.get("assignment", "")
+    res = GradeResult("", student=student, assignment=aid,
+                      error=_("no submission ({status}{note})").format(status=row.get("status", "missing"),
+                                                                      note=f": {row['note']}" if row.get("note") else ""))
+    try:
+        found = _assignments.for_path(f"{aid}.ipynb", assignment)
+    except _assignments.AssignmentError:
+        found = None
+    if found is not None:
+        res.assignment, res.tasks = found.id, _zero_tasks(found, res.error)
+    with i18n.using("en"):
+        _write_reports(out_dir, "".join(c if c.isalnum() or c in "._-" else "_" for c in f"{student}__{aid}")[:150],
+                       res, fmt, visibility)
+    return res
 
 
 def _write_reports(out_dir, stem, res, fmt, visibility):

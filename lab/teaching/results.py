@@ -13,6 +13,7 @@ the last complete line per index counts, a last line cut off when the sandbox wa
 
 import os
 
+from .protocol import decode
 from .untrusted import UntrustedError, clean, loads, read_file
 
 __all__ = ["CELL_KINDS", "InvalidResults", "MAX_CELL_ERRORS", "OUTCOMES", "open_folder", "read_cells", "read_outcomes"]
@@ -72,7 +73,11 @@ def _outcome(item, n, where):
         raise InvalidResults(f"{where}: malformed field 'undefined'")
     out = {"index": index, "status": status, "message": clean(message)}
     if "value" in item:
-        out["value"] = item["value"]  # validated by protocol.decode when judged
+        try:
+            decode(item["value"])  # what the harness encodes always decodes; anything else was forged
+        except (ValueError, TypeError, OverflowError) as exc:
+            raise InvalidResults(f"{where}: the value is not what the harness writes ({clean(exc, 100)})") from None
+        out["value"] = item["value"]
     if item.get("undefined"):
         out["undefined"] = True
     return out

@@ -1,0 +1,186 @@
+"""Returning the graded reports to the students: ``curvature-lab feedback REPORTS HOMES``.
+
+For every report of a graded folder (``REPORTS/<name>.json``, :mod:`lab.teaching.batch`) the student's home
+``HOMES/<student>`` gets ``feedback/<assignment>.html``: a page in the student's language (the report's)
+with the score, every task, every case with its status and, for each failing case, what was expected, what
+came out and the hint, then the notes.  JupyterLab opens it from the file browser.
+
+Nothing else in a home is touched.  The page is written as the home's owner would have it (owner and group
+of the home), through descriptors opened without following links, so a ``feedback`` folder or file that a
+student replaced by a symbolic link is refused, never followed (the instructor may run this as root).  A
+``feedback/<assignment>.html`` that this command did not write is kept: the page goes next to it, with a
+number (``<assignment>.2.html``).
+"""
+
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+
+from .. import i18n
+from ..i18n import _
+from .grading import GradeResult
+from .pages import STATUS_COLOURS, e, page
+from .untrusted import clean
+
+__all__ = ["GENERATOR", "FeedbackError", "feedback", "main", "render", "write_into_home"]
+
+#: Marks a page written by this command (a page without it is never replaced).
+GENERATOR = "<meta name='generator' content='curvature-lab feedback'>"
+
+
+class FeedbackError(ValueError):
+    """Feedback that cannot be returned (no reports, a home that is not a folder)."""
+
+
+def _case_rows(task):
+    rows = []
+    for c in task.get("cases", []):
+        status = c.get("status", "")
+        detail = ""
+        if status != "passed":
+            parts = [(_("expected:"), c.get("expected", "")), (_("got:"), c.get("got", "")), (_("hint:"), c.get("hint", ""))]
+            detail = "<br>".join(f"<b>{e(label)}</b> {e(clean(text))}" for label, text in parts if text)
+        rows.append(f"<tr><td>{e(clean(c.get('name', ''), 300))}</td><td class='{STATUS_COLOURS.get(status, '')}'>"
+                    f"{e(_(status) if status else '')}</td><td>{detail}</td></tr>")
+    return rows
+
+
+def render(result):
+    """The feedback page of a :class:`~lab.teaching.grading.GradeResult`, in its language."""
+    with i18n.using(result.lang):
+        title = _("Feedback: {assignment}").format(assignment=result.assignment or result.notebook)
+        body = [GENERATOR, f"<h1>{e(title)}</h1>",
+                f"<p class='score'>{e(_('{score} of {max} points').format(score=f'{result.score:g}', max=f'{result.max_score:g}'))}</p>"]
+        if result.error:
+            body.append(f"<p class='error'>{e(clean(result.error))}</p>")
+        for t in result.tasks:
+            got = round(t["points"] * t["score"], 2)
+            body.append(f"<section><h2>{e(t['task'])} ({e(clean(t['object'], 100))}): {got:g} / {t['points']:g}</h2>"
+                        f"<pre>{e(clean(t.get('message', '')))}</pre>")
+            rows = _case_rows(t)
+            if rows:
+                body.append(f"<table><tr><th>{e(_('case'))}</th><th>{e(_('status'))}</th><th></th></tr>"
+                            + "".join(rows) + "</table>")
+            body.append("</section>")
+        notes = [clean(n) for n in result.notes] + [_("cell {index}: {error}").format(index=x["cell"], error=clean(x["error"]))
+                                                   for x in result.cell_errors if x.get("kind") not in ("withheld", "follows")]
+        if notes:
+            body.append(f"<h2>{e(_('Notes'))}</h2><ul>" + "".join(f"<li>{e(n)}</li>" for n in notes) + "</ul>")
+        if result.seed is not None:
+            body.append(f"<p class='none'>{e(_('seed {seed}: the cases of this run').format(seed=result.seed))}</p>")
+        return page(title, "\n".join(body), result.lang)
+
+
+def _safe_name(text):
+    return "".join(c if c.isalnum() or c in "._-" else "_" for c in str(text))[:120] or "feedback"
+
+
+def write_into_home(home, name, text):
+    """Write ``text`` to ``home/feedback/<name>.html`` (see the module docstring); returns the path written."""
+    flags = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW
+    try:
+        home_fd = os.open(home, flags)
+    except OSError as exc:
+        raise FeedbackError(f"{home}: not a home folder ({exc.strerror})") from None
+    try:
+        owner = os.fstat(home_fd)
+        try:
+            os.mkdir("feedback", 0o755, dir_fd=home_fd)
+            created = True
+        except FileExistsError:
+            created = False
+        try:
+            folder_fd = os.open("feedback", flags, dir_fd=home_fd)
+        except OSError as exc:
+            raise FeedbackError(f"{home}/feedback is not a folder ({exc.strerror}): left as it is") from None
+        try:
+            if created and os.geteuid() == 0:
+                os.fchown(folder_fd, owner.st_uid, owner.st_gid)
+            target = f"{name}.html"
+            for k in range(2, 100):
+                if not _foreign(target, folder_fd):
+                    break
+                target = f"{name}.{k}.html"
+            tmp = f".{target}.tmp"
+            try:
+                os.unlink(tmp, dir_fd=folder_fd)
+            except FileNotFoundError:
+                pass
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644, dir_fd=folder_fd)
+            with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                fh.write(text)
+                if os.geteuid() == 0:
+                    os.fchown(fh.fileno(), owner.st_uid, owner.st_gid)
+            os.replace(tmp, target, src_dir_fd=folder_fd, dst_dir_fd=folder_fd)
+            return Path(home) / "feedback" / target
+        finally:
+            os.close(folder_fd)
+    finally:
+        os.close(home_fd)
+
+
+def _foreign(name, folder_fd):
+    """Whether ``name`` exists in the folder and was not written by this command (or is not a plain file)."""
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK, dir_fd=folder_fd)
+    except FileNotFoundError:
+        return False
+    except OSError:
+        return True
+    with os.fdopen(fd, "rb") as fh:
+        return GENERATOR.encode() not in fh.read(4096)
+
+
+def _reports(folders):
+    for folder in folders:
+        for path in sorted(Path(folder).glob("*.json")):
+            if path.name == "run.json" or path.name.endswith(".results.json"):
+                continue
+            data = json.loads(path.read_text())
+            if isinstance(data, dict) and "tasks" in data and data.get("student"):
+                yield GradeResult.from_dict(data)
+
+
+def feedback(reports, homes, *, log=sys.stderr):
+    """Put every report of the folders ``reports`` into its student's home under ``homes``; returns the paths."""
+    homes = Path(homes)
+    if not homes.is_dir():
+        raise FeedbackError(f"{homes} is not a folder of homes")
+    written, seen = [], 0
+    for result in _reports(reports if isinstance(reports, (list, tuple)) else [reports]):
+        seen += 1
+        home = homes / result.student
+        if not home.is_dir() or home.is_symlink():
+            print(f"curvature-lab feedback: no home for {clean(result.student, 80)}: skipped", file=log)
+            continue
+        try:
+            written.append(write_into_home(home, _safe_name(result.assignment or "feedback"), render(result)))
+        except FeedbackError as exc:
+            print(f"curvature-lab feedback: {exc}", file=log)
+    if not seen:
+        raise FeedbackError(f"no reports (<name>.json written by curvature-lab grade) in {', '.join(map(str, reports))}")
+    print(f"feedback for {len(written)} of {seen} reports", file=log)
+    return written
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        prog="curvature-lab feedback",
+        description="Put each student's graded report, as a page in the student's language with every case and hint, "
+                    "into the student's home: HOMES/<student>/feedback/<assignment>.html. Nothing else is touched.")
+    parser.add_argument("reports", nargs="+", help="report folders written by curvature-lab grade (then HOMES last)")
+    args = parser.parse_args(argv)
+    if len(args.reports) < 2:
+        parser.error("expected REPORTS... HOMES")
+    try:
+        feedback(args.reports[:-1], args.reports[-1])
+    except (FeedbackError, OSError, ValueError) as exc:
+        print(f"curvature-lab feedback: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,188 @@
+"""The gradebook: ``curvature-lab gradebook REPORTS... --format canvas|moodle|csv -o FILE``.
+
+One row per student, a column per assignment and a total, from the ``summary.csv`` of graded folders
+(:mod:`lab.teaching.batch`; one folder per assignment, or several assignments in one).  Per assignment:
+
+* the autograded score (a student without a submission scores 0; students listed missing in the
+  summary, from ``collect``'s ``collected.csv``, are included),
+* plus the written answers' points from marked ``written-<id>.csv`` files (``--written``),
+* minus a **late penalty**: ``--late-penalty P`` percent of the points per started day late (after
+  ``--grace`` minutes), at most ``--late-cap`` percent; the lateness comes from ``collected.csv`` through
+  the summary.
+
+Formats:
+
+* ``csv``: ``student``, then per assignment its points and ``<id> late days``, then ``total`` and ``max``;
+* ``canvas``: Canvas's gradebook import layout: ``Student, ID, SIS User ID, SIS Login ID, Section``, a
+  column per assignment (named by its title: Canvas creates the assignment; rename a header to
+  ``Title (123)`` to fill an existing one), a second row ``Points Possible``; students are matched by
+  ``SIS Login ID`` = the hub's user name, or by ``ID`` when ``--roster`` gives Canvas's own export;
+* ``moodle``: Moodle's grade import (Grades → Import → CSV file): ``Username, ID number, Email address`` and
+  a column per assignment; map "Username" to "username" and each column to its grade item when importing.
+"""
+
+import argparse
+import csv
+import io
+import math
+import sys
+from pathlib import Path
+
+from .batch import read_summary
+from .grading import write_atomic
+from .untrusted import csv_cell
+from .written import read_written
+
+__all__ = ["FORMATS", "GradebookError", "LatePolicy", "gradebook", "main", "read_roster"]
+
+FORMATS = ("csv", "canvas", "moodle")
+
+
+class GradebookError(ValueError):
+    """Reports that cannot make a gradebook."""
+
+
+class LatePolicy:
+    """``percent`` of the points per started day late, after ``grace`` minutes, at most ``cap`` percent."""
+
+    def __init__(self, percent=0.0, cap=100.0, grace=0.0):
+        for name, value, top in (("--late-penalty", percent, 100), ("--late-cap", cap, 100), ("--grace", grace, None)):
+            if not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0 or (top and value > top):
+                raise GradebookError(f"{name} must be a number from 0{f' to {top}' if top else ''}; got {value!r}")
+        self.percent, self.cap, self.grace = float(percent), float(cap), float(grace)
+
+    def days(self, late_seconds):
+        late = max(0.0, float(late_seconds or 0) - 60 * self.grace)
+        return math.ceil(late / 86400) if late > 0 else 0
+
+    def factor(self, late_seconds):
+        return 1 - min(self.cap, self.percent * self.days(late_seconds)) / 100
+
+
+def read_roster(path):
+    """``{user name: row}`` from a roster CSV: Canvas's gradebook export (``SIS Login ID``) or any CSV with a
+    ``username`` column (and optionally ``name``, ``id``, ``sis user id``, ``section``, ``email``, ``id number``)."""
+    with open(path, newline="", encoding="utf-8-sig") as fh:
+        rows = list(csv.DictReader(fh))
+    out = {}
+    for row in rows:
+        low = {k.strip().lower(): (v or "").strip() for k, v in row.items() if k}
+        user = low.get("sis login id") or low.get("username") or low.get("login id")
+        if user and not user.startswith("Points Possible"):
+            out[user] = low
+    if rows and not out:
+        raise GradebookError(f"{path}: no column 'SIS Login ID' or 'username'")
+    return out
+
+
+def _assignments(folders):
+    """``{assignment id: {"max": points, "title": str, "rows": {student: row}}}`` from the summaries."""
+    found = {}
+    for folder in folders:
+        path = Path(folder) / "summary.csv"
+        if not path.is_file():
+            raise GradebookError(f"{folder}: no summary.csv (is it a folder of reports from curvature-lab grade?)")
+        for row in read_summary(path):
+            aid = row.get("assignment") or ""
+            if not aid:
+                continue
+            entry = found.setdefault(aid, {"max": 0.0, "rows": {}})
+            try:
+                top = float(row.get("max_score") or 0)
+            except ValueError:
+                raise GradebookError(f"{path}: max_score {row.get('max_score')!r} is not a number") from None
+            entry["max"] = max(entry["max"], top)
+            student = row["student"].lstrip("'")
+            old = entry["rows"].get(student)
+            if old is None or float(row.get("score") or 0) > float(old.get("score") or 0):
+                entry["rows"][student] = row  # a student with two notebooks of one assignment: the better counts
+    if not found:
+        raise GradebookError("the summaries name no assignment")
+    return found
+
+
+def gradebook(folders, *, late=None, written=(), roster=None):
+    """``(assignment ids, {aid: max}, rows)``: per student ``{"student", aid: points, aid + " late days", "total"}``."""
+    late = late or LatePolicy()
+    found = _assignments(folders)
+    marks = {}
+    for path in written:
+        marks.update(read_written(path))
+    maxima = {aid: entry["max"] for aid, entry in found.items()}
+    for (_student, aid), (_got, top) in marks.items():
+        if aid in maxima:
+            maxima[aid] = found[aid]["max"] + top
+    students = sorted({s for entry in found.values() for s in entry["rows"]} | set(roster or ()))
+    rows = []
+    for student in students:
+        row = {"student": student}
+        total = 0.0
+        for aid, entry in sorted(found.items()):
+            summary = entry["rows"].get(student, {})
+            auto = float(summary.get("score") or 0)
+            extra = marks.get((student, aid), (0.0, 0.0))[0]
+            days = late.days(summary.get("late_seconds"))
+            points = round((auto + extra) * late.factor(summary.get("late_seconds")), 2)
+            row[aid], row[f"{aid} late days"] = points, days
+            total += points
+        row["total"] = round(total, 2)
+        rows.append(row)
+    return sorted(found), maxima, rows
+
+
+def _write(fmt, ids, maxima, rows, roster):
+    roster = roster or {}
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    max_total = round(sum(maxima.values()), 2)
+    if fmt == "csv":
+        w.writerow(["student"] + [c for aid in ids for c in (aid, f"{aid} late days")] + ["total", "max"])
+        w.writerow(["max"] + [c for aid in ids for c in (maxima[aid], "")] + [max_total, ""])
+        for r in rows:
+            w.writerow([csv_cell(r["student"])] + [c for aid in ids for c in (r[aid], r[f"{aid} late days"])]
+                       + [r["total"], max_total])
+    elif fmt == "canvas":
+        w.writerow(["Student", "ID", "SIS User ID", "SIS Login ID", "Section"] + list(ids))
+        w.writerow(["Points Possible", "", "", "", ""] + [maxima[aid] for aid in ids])
+        for r in rows:
+            info = roster.get(r["student"], {})
+            w.writerow([csv_cell(info.get("student") or info.get("name") or r["student"]), csv_cell(info.get("id", "")),
+                        csv_cell(info.get("sis user id", "")), csv_cell(r["student"]), csv_cell(info.get("section", ""))]
+                       + [r[aid] for aid in ids])
+    else:
+        w.writerow(["Username", "ID number", "Email address"] + list(ids))
+        for r in rows:
+            info = roster.get(r["student"], {})
+            w.writerow([csv_cell(r["student"]), csv_cell(info.get("id number", "")), csv_cell(info.get("email", ""))]
+                       + [r[aid] for aid in ids])
+    return buf.getvalue()
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        prog="curvature-lab gradebook",
+        description="One row per student, a column per assignment and a total, from graded report folders (their "
+                    "summary.csv), with written points and a late penalty; for Canvas, Moodle or as plain CSV.")
+    parser.add_argument("reports", nargs="+", help="report folders written by curvature-lab grade")
+    parser.add_argument("--format", choices=FORMATS, default="csv", help="layout of the file (default: csv)")
+    parser.add_argument("-o", "--output", required=True, help="the CSV file to write")
+    parser.add_argument("--written", action="append", default=[], help="a marked written-<id>.csv (repeatable)")
+    parser.add_argument("--late-penalty", type=float, default=0.0, help="percent of the points per started day late")
+    parser.add_argument("--late-cap", type=float, default=100.0, help="largest late penalty in percent (default 100)")
+    parser.add_argument("--grace", type=float, default=0.0, help="minutes after the deadline without penalty")
+    parser.add_argument("--roster", help="Canvas's gradebook export or a CSV with 'username' (names, ids, sections)")
+    args = parser.parse_args(argv)
+    try:
+        roster = read_roster(args.roster) if args.roster else None
+        ids, maxima, rows = gradebook(args.reports, late=LatePolicy(args.late_penalty, args.late_cap, args.grace),
+                                      written=args.written, roster=roster)
+        write_atomic(args.output, _write(args.format, ids, maxima, rows, roster))
+    except (GradebookError, ValueError, OSError) as exc:
+        print(f"curvature-lab gradebook: error: {exc}", file=sys.stderr)
+        return 2
+    print(f"{len(rows)} students, {len(ids)} assignments -> {args.output}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
