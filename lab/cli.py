@@ -177,21 +177,29 @@ def build_parser():
     # "--camera -60,35": let a negative azimuth pass as a value, not an option
     r._negative_number_matcher = re.compile(r"^-\d+(\.\d*)?(,-?\d+(\.\d*)?)?$|^-\.\d+$")
     r.set_defaults(func=_render)
-    sub.add_parser("grade", help="grade a notebook or a folder of submissions (curvature-lab grade --help)", add_help=False)
-    sub.add_parser("exercises", help="generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/ (curvature-lab exercises --help)", add_help=False)
+    for verb, (_module, text) in VERBS.items():
+        sub.add_parser(verb, help=f"{text} (curvature-lab {verb} --help)", add_help=False)
     return parser
+
+
+#: The course's commands, in the order a course uses them: verb -> (module of lab.teaching with main(), help).
+VERBS = {
+    "exercises": ("notebooks", "generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/"),
+    "release": ("release", "write the students' hand-out: exercises and the library without the answers"),
+    "collect": ("collect", "collect an assignment from the students' homes, with hand-in times and lateness"),
+    "grade": ("grading", "grade a notebook or a folder of submissions in a sandbox"),
+    "feedback": ("feedback", "put each student's report into the student's home"),
+    "gradebook": ("gradebook", "one row per student and a total, for Canvas, Moodle or CSV"),
+    "gradescope": ("gradescope", "build a Gradescope autograder zip for an assignment"),
+}
 
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv and argv[0] == "grade":
-        from .teaching import grading
+    if argv and argv[0] in VERBS:
+        import importlib
 
-        return grading.main(argv[1:])
-    if argv and argv[0] == "exercises":
-        from .teaching import notebooks
-
-        return notebooks.main(argv[1:])
+        return importlib.import_module(f"lab.teaching.{VERBS[argv[0]][0]}").main(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command == "render" and args.resolution < 1:

@@ -54,8 +54,9 @@ OPEN_FILES = 1024
 PROCESSES = 256  # processes and threads of a submission together (a kernel has about 10 threads)
 
 
-def _strip_module(path, module, names):
-    """Replace the bodies of the functions/methods ``names`` (dotted within ``module``) by the withheld stub."""
+def strip_module(path, module, names, stub=stub_source):
+    """Replace the bodies of the functions/methods ``names`` (dotted within ``module``) by ``stub(qualified name)``
+    (default: the withheld stub of the graded run), keeping their signatures and docstrings."""
     tree = ast.parse(path.read_text(), str(path))
     wanted, found = set(names), set()
 
@@ -66,7 +67,7 @@ def _strip_module(path, module, names):
             elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and f"{prefix}{node.name}" in wanted:
                 qual = f"{prefix}{node.name}"
                 doc = [node.body[0]] if ast.get_docstring(node) else []
-                node.body = doc + ast.parse(stub_source(f"{module}.{qual}")).body
+                node.body = doc + ast.parse(stub(f"{module}.{qual}")).body
                 found.add(qual)
 
     visit(tree.body, "")
@@ -97,20 +98,25 @@ def prepare_package(blocked, task_names, target):
         if f.name not in KEEP_TEACHING:
             shutil.rmtree(f) if f.is_dir() else f.unlink()
     (dest / "teaching" / "check.py").write_text(_stub_check(task_names))
+    for (file, module), names in by_module_file(blocked, dest).items():
+        strip_module(file, module, names)
+    compileall.compile_dir(str(dest), quiet=1, workers=1)
+    return dest
+
+
+def by_module_file(qualnames, package):
+    """``{(file, module): [names within the module]}`` for qualified names of functions in the ``lab`` copy ``package``."""
     by_module = {}
-    for qual in blocked:
+    for qual in qualnames:
         parts = qual.split(".")
         for cut in range(len(parts) - 1, 1, -1):
-            file = dest.joinpath(*parts[1:cut]).with_suffix(".py")
+            file = Path(package).joinpath(*parts[1:cut]).with_suffix(".py")
             if file.is_file():
                 by_module.setdefault((file, ".".join(parts[:cut])), []).append(".".join(parts[cut:]))
                 break
         else:
             raise ValueError(f"cannot withhold {qual!r}: no such module in lab")
-    for (file, module), names in by_module.items():
-        _strip_module(file, module, names)
-    compileall.compile_dir(str(dest), quiet=1, workers=1)
-    return dest
+    return by_module
 
 
 @functools.lru_cache(maxsize=1)
