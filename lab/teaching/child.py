@@ -29,6 +29,8 @@ from .runner_client import NotebookRunner
 MAX_OUTPUT = 100_000
 #: Kernel restarts allowed in one run.
 MAX_RESTARTS = 6
+#: Bytes of the working folder kept back for the results while the notebook's own cells run.
+RESERVE = 4 << 20
 #: Seconds an interrupted kernel has to answer again before it is replaced.
 PROBE_TIMEOUT = 10
 
@@ -102,6 +104,26 @@ class Run:
 
     def _cell_error(self, index, text, kind):
         self.cell_errors.append({"cell": index, "error": text, "kind": kind})
+        self._write_cells()  # at once: a run stopped from outside keeps what it found
+
+    def _write_cells(self):
+        """``cells.json`` through a rename: whatever the submission put there is replaced."""
+        tmp = self.out / f".cells.{os.getpid()}.json"
+        try:
+            tmp.write_text(json.dumps({"cell_errors": self.cell_errors, "restarts": self.restarts}))
+            os.replace(tmp, self.out / "cells.json")
+        except OSError:  # a submission that filled its folder: the space kept back (RESERVE) is freed later
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+
+    def _reserve(self, keep):
+        """Keep :data:`RESERVE` bytes of the folder's budget for the results (``keep=False`` gives them back)."""
+        path = self.out / ".reserve"
+        with contextlib.suppress(OSError):
+            if keep:
+                path.write_bytes(b"\0" * RESERVE)
+            else:
+                path.unlink()
 
     def _work(self):
         """The cells, then one harness cell per task: (kind, cell index or task index)."""
@@ -135,6 +157,7 @@ class Run:
             fh.write(json.dumps({"index": last + 1, "status": status, "message": message}) + "\n")
 
     def run(self):
+        self._reserve(True)
         items = self._work()
         case_timeout = self.spec["case_timeout"]
         while items and self.restarts <= MAX_RESTARTS:
@@ -149,6 +172,8 @@ class Run:
                         break
                 while items and not stuck:
                     kind, index, *rest = items.pop(0)
+                    if kind == "task":
+                        self._reserve(False)  # the results are written from here on
                     if kind == "cell":
                         limit = self.spec["cell_timeout"]
                     else:
@@ -181,9 +206,8 @@ class Run:
                 self._cell_error(index, _("not run: the kernel had to be replaced too often"), "not run")
             else:
                 self._task_timeout(rest[0], _("not run: the kernel had to be replaced too often"), "not run")
-        tmp = self.out / f".cells.{os.getpid()}.json"  # then a rename: whatever the submission put there is replaced
-        tmp.write_text(json.dumps({"cell_errors": self.cell_errors, "restarts": self.restarts}))
-        os.replace(tmp, self.out / "cells.json")
+        self._reserve(False)
+        self._write_cells()
 
 
 def main(argv=None):

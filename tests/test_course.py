@@ -1,0 +1,340 @@
+"""A course from hand-out to gradebook, without the hub (tests/test_hub.py runs it through JupyterHub):
+release, collect, grading a mixed English/German folder (resumed after a crash), feedback, written answers,
+gradebook (Canvas, Moodle, CSV, late penalty), the Gradescope autograder.
+
+One folder run is graded once for the module (``graded``); the other tests read its reports."""
+
+import csv
+import datetime
+import json
+import os
+import shutil
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import nbformat
+import pytest
+
+from lab.teaching import batch, collect, feedback, gradebook, grading, gradescope, release, sandbox, written
+
+ROOT = Path(__file__).resolve().parent.parent
+ID = "05_visualize_curvature"
+SOLUTION = {lang: ROOT / "solutions" / lang / f"{ID}.ipynb" for lang in ("en", "de")}
+EXERCISE = {lang: ROOT / "exercises" / lang / f"{ID}.ipynb" for lang in ("en", "de")}
+DEADLINE = datetime.datetime(2026, 12, 15, 23, 59, tzinfo=datetime.timezone.utc)
+
+pytestmark = pytest.mark.xdist_group("course")  # one graded folder for the module
+
+
+def _save(src, dst, when, rename=None):
+    dst.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy(src, dst)
+    os.utime(dst, (when.timestamp(), when.timestamp()))
+    return dst
+
+
+def _snapshot(root):
+    return {p.relative_to(root): (p.read_bytes(), p.stat().st_mtime) for p in sorted(Path(root).rglob("*"))
+            if p.is_file() and not p.is_symlink()}
+
+
+@pytest.fixture(scope="module")
+def course(tmp_path_factory):
+    """Homes of five students: ada (English, right, on time), bea (German, right, 2.5 days late, the notebook
+    renamed), cy (English, not done), dan (a link to ada's notebook), eli (no notebook); then collect and grade."""
+    root = tmp_path_factory.mktemp("course")
+    homes = root / "home"
+    on_time, late = DEADLINE - datetime.timedelta(hours=3), DEADLINE + datetime.timedelta(days=2, hours=12)
+    _save(SOLUTION["en"], homes / "ada" / "curvature-lab" / "exercises" / "en" / f"{ID}.ipynb", on_time)
+    nb = nbformat.read(SOLUTION["de"], as_version=4)
+    answer = next(c for c in nb.cells if c.cell_type == "markdown")
+    _save(SOLUTION["de"], homes / "bea" / "work" / "meine_abgabe.ipynb", late)  # found by its metadata id
+    _save(EXERCISE["en"], homes / "cy" / f"{ID}.ipynb", on_time)
+    (homes / "dan").mkdir()
+    (homes / "dan" / f"{ID}.ipynb").symlink_to(homes / "ada" / "curvature-lab" / "exercises" / "en" / f"{ID}.ipynb")
+    (homes / "eli" / "notes").mkdir(parents=True)
+    # written answers of 04 for ada and bea
+    ex04 = nbformat.read(ROOT / "exercises" / "en" / "04_color_maps.ipynb", as_version=4)
+    q = written.questions_of(ex04)[0]
+    for student, text in (("ada", "f1 is absolute; f2 uses the whole ramp."), ("bea", "=cmd|' /C calc'!A0")):
+        mine = nbformat.read(ROOT / "exercises" / "en" / "04_color_maps.ipynb", as_version=4)
+        next(c for c in mine.cells if c.get("id") == q.cell).source = text
+        path = homes / student / "04_color_maps.ipynb"
+        nbformat.write(mine, path)
+        os.utime(path, (on_time.timestamp(),) * 2)
+    del nb, answer
+    before = _snapshot(homes)
+    subs = root / "subs"
+    rows = collect.collect(homes, ID, DEADLINE.isoformat(), subs, roster=["ada", "bea", "cy", "dan", "eli", "fay"])
+    rows04 = collect.collect(homes, "04_color_maps", DEADLINE.isoformat(), root / "subs04")
+    reports = root / "reports"
+    results = batch.grade_folder(subs, reports, jobs=2, seed=777, timeout=120)
+    return {"root": root, "homes": homes, "subs": subs, "reports": reports, "rows": rows, "rows04": rows04,
+            "results": {r.student: r for r in results}, "before": before}
+
+
+def test_collect_finds_each_notebook_and_records_lateness(course):
+    rows = {r["student"]: r for r in course["rows"]}
+    assert rows["ada"]["status"] == "collected" and rows["ada"]["late"] is False
+    assert rows["bea"]["status"] == "collected" and rows["bea"]["file"] == "work/meine_abgabe.ipynb"
+    assert rows["bea"]["late"] is True and rows["bea"]["late_seconds"] == 2.5 * 86400
+    assert rows["dan"]["status"] == "refused" and "symbolic link" in rows["dan"]["note"]
+    assert rows["eli"]["status"] == "missing" and rows["fay"]["note"] == "no home"
+    copy = course["subs"] / "bea" / f"{ID}.ipynb"
+    assert copy.read_bytes() == SOLUTION["de"].read_bytes()  # copied under the instructor's file name
+    written_csv = list(csv.DictReader(open(course["subs"] / "collected.csv")))
+    assert {r["student"] for r in written_csv} == {"ada", "bea", "cy", "dan", "eli", "fay"}
+
+
+def test_collect_never_changes_a_home(course):
+    assert _snapshot(course["homes"]) == course["before"]
+
+
+def test_collect_refuses_to_overwrite_a_changed_copy(course, tmp_path):
+    subs = tmp_path / "subs"
+    collect.collect(course["homes"], ID, DEADLINE.isoformat(), subs)
+    (subs / "ada" / f"{ID}.ipynb").write_text("{}")  # an instructor's correction
+    with pytest.raises(collect.CollectError, match="was changed since it was collected"):
+        collect.collect(course["homes"], ID, DEADLINE.isoformat(), subs)
+    with pytest.raises(collect.CollectError, match="ISO 8601"):
+        collect.collect(course["homes"], ID, "next friday", tmp_path / "x")
+
+
+def test_the_written_answers_are_collected_per_question(course):
+    page = (course["root"] / "subs04" / "written-04_color_maps.html").read_text()
+    assert "f1 is absolute" in page and "=cmd|" in page and "<script" not in page
+    rows = list(csv.DictReader(open(course["root"] / "subs04" / "written-04_color_maps.csv")))
+    assert {r["student"] for r in rows} == {"ada", "bea"} and all(r["points"] == "" for r in rows)
+    assert next(r for r in rows if r["student"] == "bea")["answer"].startswith("'=")  # never a formula
+    assert float(rows[0]["max_points"]) == 3
+
+
+def test_a_mixed_english_and_german_folder_is_graded(course):
+    res = course["results"]
+    assert res["ada"].score == res["bea"].score == 10 and res["ada"].lang == "en" and res["bea"].lang == "de"
+    assert "Punkte" in (course["reports"] / f"bea__{ID}.txt").read_text()
+    assert res["cy"].score == 0 and res["cy"].max_score == 10
+    assert res["eli"].score == 0 and res["eli"].max_score == 10 and "no submission" in res["eli"].error
+    rows = {r["student"]: r for r in csv.DictReader(open(course["reports"] / "summary.csv"))}
+    assert rows["bea"]["late"] == "True" and rows["bea"]["late_seconds"] == str(int(2.5 * 86400))
+    assert rows["ada"]["missing_protections"] == ""  # bubblewrap, cgroups and the tmpfs budget are all there
+
+
+def test_resume_grades_only_what_is_missing(course):
+    reports = course["reports"]
+    kept = {p.name: p.stat().st_mtime_ns for p in reports.glob("*.json")}
+    (reports / f"cy__{ID}.json").unlink()
+    results = batch.grade_folder(course["subs"], reports, jobs=2, resume=True, timeout=120)
+    after = {p.name: p.stat().st_mtime_ns for p in reports.glob("*.json")}
+    assert after[f"ada__{ID}.json"] == kept[f"ada__{ID}.json"]  # not graded again
+    assert f"cy__{ID}.json" in after and {r.student: r.score for r in results}["cy"] == 0
+    assert json.loads((reports / "run.json").read_text())["seed"] == 777
+    with pytest.raises(batch.GradingError, match="graded with seed 777, not 5"):
+        batch.grade_folder(course["subs"], reports, resume=True, seed=5)
+
+
+def test_folder_grading_refuses_without_bubblewrap(course, monkeypatch, tmp_path):
+    monkeypatch.setattr(batch, "bwrap_works", lambda: False)
+    with pytest.raises(batch.GradingError, match="bubblewrap .* cannot run here.*--no-sandbox"):
+        batch.grade_folder(course["subs"], tmp_path / "r")
+    with pytest.raises(batch.GradingError, match="no notebooks"):
+        (tmp_path / "empty").mkdir()
+        batch.grade_folder(tmp_path / "empty", tmp_path / "r", sandbox=False)
+
+
+def test_feedback_in_each_home_in_the_students_language(course):
+    homes = course["homes"]
+    (homes / "cy" / "feedback").mkdir()
+    (homes / "cy" / "feedback" / f"{ID}.html").write_text("my own notes")  # not ours: kept
+    (homes / "dan" / "feedback").symlink_to("/etc")  # a trap for an instructor running as root
+    feedback.feedback([course["reports"]], homes)
+    ada = (homes / "ada" / "feedback" / f"{ID}.html").read_text()
+    bea = (homes / "bea" / "feedback" / f"{ID}.html").read_text()
+    assert "10 of 10 points" in ada and "visualize_curvature" in ada
+    assert "10 von 10 Punkten" in bea and "Rückmeldung" in bea
+    cy = (homes / "cy" / "feedback" / f"{ID}.2.html").read_text()
+    assert "0 of 10 points" in cy and "not implemented" in cy
+    assert (homes / "cy" / "feedback" / f"{ID}.html").read_text() == "my own notes"
+    assert not (Path("/etc") / f"{ID}.html").exists()
+    for student in ("ada", "bea"):  # their work is untouched
+        for path, (data, mtime) in course["before"].items():
+            if path.parts[0] == student:
+                assert (homes / path).read_bytes() == data
+
+
+def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
+    marks = tmp_path / "written.csv"
+    rows = list(csv.DictReader(open(course["root"] / "subs04" / "written-04_color_maps.csv")))
+    for r in rows:
+        r["points"] = "2" if r["student"] == "ada" else "1"
+    with open(marks, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    reports04 = tmp_path / "reports04"
+    batch.grade_folder(course["root"] / "subs04", reports04, jobs=2, seed=3, timeout=120)
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(course["reports"]), str(reports04), "--written", str(marks), "--late-penalty", "10",
+                           "--late-cap", "25", "--format", "csv", "-o", str(out)]) == 0
+    table = {r["student"]: r for r in csv.DictReader(open(out))}
+    assert float(table["ada"][ID]) == 10 and float(table["bea"][ID]) == 7.5  # 3 started days late: 30 %, capped 25 %
+    assert table["bea"][f"{ID} late days"] == "3"
+    assert float(table["max"][ID]) == 10 and float(table["max"]["04_color_maps"]) == 7 + 3
+    assert float(table["ada"]["total"]) == 10 + float(table["ada"]["04_color_maps"])
+    assert float(table["ada"]["04_color_maps"]) == 0 + 2  # the exercise untouched (0 autograded) + 2 written
+    canvas = tmp_path / "canvas.csv"
+    gradebook.main([str(course["reports"]), "--format", "canvas", "-o", str(canvas), "--late-penalty", "10"])
+    lines = list(csv.reader(open(canvas)))
+    assert lines[0] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", ID]
+    assert lines[1][0] == "Points Possible" and float(lines[1][5]) == 10
+    assert ["bea", "", "", "bea", "", "7.0"] in lines
+    moodle = tmp_path / "moodle.csv"
+    gradebook.main([str(course["reports"]), "--format", "moodle", "-o", str(moodle)])
+    lines = list(csv.reader(open(moodle)))
+    assert lines[0] == ["Username", "ID number", "Email address", ID] and ["ada", "", "", "10.0"] in lines
+    bad = tmp_path / "bad.csv"
+    bad.write_text("student,assignment,question,max_points,points\nada,04_color_maps,x,3,5\n")
+    assert gradebook.main([str(reports04), "--written", str(bad), "-o", str(tmp_path / "g.csv")]) == 2
+
+
+def test_gradescope_autograder_runs_and_rounds_alike(course, tmp_path):
+    zpath = gradescope.build(ID, tmp_path / "autograder.zip", visibility="after_due_date")
+    root = tmp_path / "autograder"
+    with zipfile.ZipFile(zpath) as z:
+        names = z.namelist()
+        z.extractall(root / "source")
+    assert {"setup.sh", "run_autograder", f"source/assignment/en/{ID}.ipynb", f"source/assignment/de/{ID}.ipynb",
+            "source/curvature-lab/pyproject.toml", "source/curvature-lab/lab/teaching/grading.py"} <= set(names)
+    for script in ("setup.sh", "run_autograder"):
+        assert subprocess.run(["bash", "-n", str(root / "source" / script)], check=False).returncode == 0
+    # Gradescope's layout: the zip in /autograder/source, the upload in /autograder/submission
+    shutil.move(str(root / "source" / "source" / "assignment"), str(root / "source" / "assignment"))
+    (root / "submission").mkdir()
+    shutil.copy(SOLUTION["de"], root / "submission" / "abgabe (1).ipynb")
+    env = {**os.environ, "AUTOGRADER_ROOT": str(root), "LAB_PYTHON": sys.executable}
+    subprocess.run(["bash", str(root / "source" / "run_autograder")], env=env, check=True, timeout=1200,
+                   capture_output=True)
+    results = json.loads((root / "results" / "results.json").read_text())
+    assert results["score"] == 10 and results["visibility"] == "after_due_date"
+    assert sum(t["score"] for t in results["tests"]) == results["score"]
+    assert all(t["visibility"] == "after_due_date" for t in results["tests"])
+    with pytest.raises(Exception, match="no graded tasks"):
+        gradescope.build("09_dill_gallery", tmp_path / "x.zip")
+
+
+# -- the hand-out ----------------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def handout(tmp_path_factory):
+    out = tmp_path_factory.mktemp("handout") / "student"
+    release.release(out, git=True)
+    return out
+
+
+def test_the_handout_holds_no_solution_and_no_course_file(handout):
+    assert release.solution_lines_in(handout) == []
+    assert len(release.solution_lines()) > 100  # the search has something to look for
+    names = {p.relative_to(handout).parts[0] for p in handout.iterdir()}
+    assert names == {".git", ".gitignore", release.MARK, "Makefile", "README.md", "exercises", "jupyter", "lab",
+                     "pyproject.toml"}
+    assert sorted(p.name for p in (handout / "exercises" / "de").glob("*.ipynb")) == \
+        sorted(p.name for p in (ROOT / "exercises" / "de").glob("*.ipynb"))
+    source = (handout / "lab" / "model" / "patches.py").read_text()
+    assert "withheld in this hand-out" in source and "corner_curvature_chunks()" not in source.split(
+        "def visualize_curvature")[1].split("\n    def ")[0]
+    assert "make lab" in (handout / "README.md").read_text()
+
+
+def test_the_handout_search_finds_a_solution_line(handout, tmp_path):
+    """The check itself can fail: a solution line pasted into a file of the hand-out is found."""
+    copy = tmp_path / "copy"
+    shutil.copytree(handout / "lab" / "geometry", copy)
+    (copy / "x.py").write_text("    return np.linalg.norm(np.cross(d1, d2)) / np.linalg.norm(d1) ** 3\n")
+    hits = release.solution_lines_in(copy)
+    assert [(p.name, nb) for p, nb, _ in hits] == [("x.py", "01_curves_and_orientation.ipynb")]
+
+
+def _run(handout, code, env_extra=None):
+    env = {"PYTHONPATH": str(handout), "PATH": os.environ["PATH"], "HOME": str(handout), **(env_extra or {})}
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=handout,
+                          check=False, timeout=600)
+
+
+def test_the_handouts_library_works_and_shows_no_answer(handout):
+    done = _run(handout, """
+import inspect, lab, numpy as np
+from lab import check, colormaps
+assert lab.__file__.startswith(%r), lab.__file__
+print(colormaps.h(np.array([0.0, 0.5, 1.0])).tolist())
+print("withheld" in inspect.getsource(colormaps.h), "np.where" in inspect.getsource(colormaps.h))
+p = lab.surfaces.practical().to_bezier_patches().refine(1)
+p.visualize_curvature(p.CURVATURE_GAUSSIAN, p.COLOR_MAP_LINEAR)
+print(round(float(p.curvature.max()), 6), p.to_mesh().n_points)
+print(check.h(lambda x: (0.0, 4 * x, 1.0) if x <= 0.25 else (0.0, 1.0, 2 - 4 * x) if x <= 0.5 else
+      (4 * x - 2, 1.0, 0.0) if x <= 0.75 else (1.0, 4 - 4 * x, 0.0)).status)
+""" % str(handout))
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0] == "[[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]"
+    assert lines[1] == "True False"  # the source says withheld; the code runs
+    reference = lab_practical_max()
+    assert abs(float(lines[2].split()[0]) - reference) < 1e-6 and int(lines[2].split()[1]) > 100
+    assert lines[3] == "passed"  # the in-notebook check works: it has its cases and answers
+
+
+def lab_practical_max():
+    import lab
+
+    p = lab.surfaces.practical().to_bezier_patches().refine(1)
+    p.visualize_curvature(p.CURVATURE_GAUSSIAN, p.COLOR_MAP_LINEAR)
+    return round(float(p.curvature.max()), 6)
+
+
+def test_a_python_without_the_compiled_code_is_told(handout, tmp_path):
+    copy = tmp_path / "other-python"
+    shutil.copytree(handout, copy, ignore=shutil.ignore_patterns("__pycache__", ".git"))
+    done = _run(copy, "import numpy as np\nfrom lab import colormaps\ncolormaps.h(np.zeros(1))")
+    assert "withheld in this hand-out" in done.stderr and "ask for a hand-out built for cpython" in done.stderr
+    done = _run(copy, "import lab.teaching.tasks_colors")
+    assert "ImportError: lab.teaching.tasks_colors is withheld in this hand-out" in done.stderr
+
+
+def test_make_lab_works_in_the_handout(handout, tmp_path):
+    """`make setup` in the hand-out: its venv takes the packages of the test venv (no download), installs the
+    hand-out's library, and a kernel there runs exercise 05 with its pictures."""
+    if shutil.which("make") is None:
+        pytest.skip("make is missing")
+    venv = handout / ".venv"
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+    site = next(venv.glob("lib/python*/site-packages"))
+    (site / "test-venv.pth").write_text(next(p for p in sys.path if p.endswith("site-packages")) + "\n")
+    done = subprocess.run(["make", "-C", str(handout), "setup"], capture_output=True, text=True, timeout=900,
+                          check=False)
+    assert done.returncode == 0, done.stdout + done.stderr
+    where = subprocess.run([str(venv / "bin" / "python"), "-c", "import lab; print(lab.__file__)"],
+                           capture_output=True, text=True, check=True, cwd=tmp_path).stdout
+    assert where.strip() == str(handout / "lab" / "__init__.py")
+    assert "make lab" in subprocess.run(["make", "-C", str(handout), "-n", "lab"], capture_output=True, text=True,
+                                        check=True).stdout.replace("jupyter lab", "make lab")
+    shutil.rmtree(venv)
+
+
+def test_release_refuses_a_foreign_folder_and_self_study_keeps_references(tmp_path):
+    (tmp_path / "mine").mkdir()
+    (tmp_path / "mine" / "thesis.tex").write_text("x")
+    with pytest.raises(release.ReleaseError, match="not empty and not an earlier release"):
+        release.release(tmp_path / "mine", check=False)
+    out = release.release(tmp_path / "self", self_study=True, check=False)
+    assert "np.where" in (out / "lab" / "geometry" / "colormaps.py").read_text()
+    assert not (out / "solutions").exists() and not (out / "tests").exists()
+
+
+@pytest.mark.skipif(not sandbox.bwrap_works(), reason="bubblewrap cannot run here")
+def test_grade_cli_rejects_bad_options(capsys):
+    for args, message in ((["--timeout", "-5"], "expected a positive number"), (["--memory", "0"], "positive"),
+                          (["--memory", "100"], "at least 256")):
+        with pytest.raises(SystemExit):
+            grading.main([str(SOLUTION["en"]), *args])
+        assert message in capsys.readouterr().err
