@@ -17,7 +17,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from lab.teaching import batch, collect, feedback, gradebook, grading, gradescope, release, sandbox, written
+from lab.teaching import batch, collect, feedback, gradebook, gradescope, grading, release, sandbox, written
 
 ROOT = Path(__file__).resolve().parent.parent
 ID = "05_visualize_curvature"
@@ -33,6 +33,16 @@ def _save(src, dst, when, rename=None):
     shutil.copy(src, dst)
     os.utime(dst, (when.timestamp(), when.timestamp()))
     return dst
+
+
+def rows_of(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def lines_of(path):
+    with open(path, newline="") as fh:
+        return list(csv.reader(fh))
 
 
 def _snapshot(root):
@@ -84,7 +94,7 @@ def test_collect_finds_each_notebook_and_records_lateness(course):
     assert rows["eli"]["status"] == "missing" and rows["fay"]["note"] == "no home"
     copy = course["subs"] / "bea" / f"{ID}.ipynb"
     assert copy.read_bytes() == SOLUTION["de"].read_bytes()  # copied under the instructor's file name
-    written_csv = list(csv.DictReader(open(course["subs"] / "collected.csv")))
+    written_csv = rows_of(course["subs"] / "collected.csv")
     assert {r["student"] for r in written_csv} == {"ada", "bea", "cy", "dan", "eli", "fay"}
 
 
@@ -105,7 +115,7 @@ def test_collect_refuses_to_overwrite_a_changed_copy(course, tmp_path):
 def test_the_written_answers_are_collected_per_question(course):
     page = (course["root"] / "subs04" / "written-04_color_maps.html").read_text()
     assert "f1 is absolute" in page and "=cmd|" in page and "<script" not in page
-    rows = list(csv.DictReader(open(course["root"] / "subs04" / "written-04_color_maps.csv")))
+    rows = rows_of(course["root"] / "subs04" / "written-04_color_maps.csv")
     assert {r["student"] for r in rows} == {"ada", "bea"} and all(r["points"] == "" for r in rows)
     assert next(r for r in rows if r["student"] == "bea")["answer"].startswith("'=")  # never a formula
     assert float(rows[0]["max_points"]) == 3
@@ -117,7 +127,7 @@ def test_a_mixed_english_and_german_folder_is_graded(course):
     assert "Punkte" in (course["reports"] / f"bea__{ID}.txt").read_text()
     assert res["cy"].score == 0 and res["cy"].max_score == 10
     assert res["eli"].score == 0 and res["eli"].max_score == 10 and "no submission" in res["eli"].error
-    rows = {r["student"]: r for r in csv.DictReader(open(course["reports"] / "summary.csv"))}
+    rows = {r["student"]: r for r in rows_of(course["reports"] / "summary.csv")}
     assert rows["bea"]["late"] == "True" and rows["bea"]["late_seconds"] == str(int(2.5 * 86400))
     assert rows["ada"]["missing_protections"] == ""  # bubblewrap, cgroups and the tmpfs budget are all there
 
@@ -166,7 +176,7 @@ def test_feedback_in_each_home_in_the_students_language(course):
 
 def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
     marks = tmp_path / "written.csv"
-    rows = list(csv.DictReader(open(course["root"] / "subs04" / "written-04_color_maps.csv")))
+    rows = rows_of(course["root"] / "subs04" / "written-04_color_maps.csv")
     for r in rows:
         r["points"] = "2" if r["student"] == "ada" else "1"
     with open(marks, "w", newline="") as fh:
@@ -178,7 +188,7 @@ def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
     out = tmp_path / "grades.csv"
     assert gradebook.main([str(course["reports"]), str(reports04), "--written", str(marks), "--late-penalty", "10",
                            "--late-cap", "25", "--format", "csv", "-o", str(out)]) == 0
-    table = {r["student"]: r for r in csv.DictReader(open(out))}
+    table = {r["student"]: r for r in rows_of(out)}
     assert float(table["ada"][ID]) == 10 and float(table["bea"][ID]) == 7.5  # 3 started days late: 30 %, capped 25 %
     assert table["bea"][f"{ID} late days"] == "3"
     assert float(table["max"][ID]) == 10 and float(table["max"]["04_color_maps"]) == 7 + 3
@@ -186,13 +196,13 @@ def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
     assert float(table["ada"]["04_color_maps"]) == 0 + 2  # the exercise untouched (0 autograded) + 2 written
     canvas = tmp_path / "canvas.csv"
     gradebook.main([str(course["reports"]), "--format", "canvas", "-o", str(canvas), "--late-penalty", "10"])
-    lines = list(csv.reader(open(canvas)))
+    lines = lines_of(canvas)
     assert lines[0] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", ID]
     assert lines[1][0] == "Points Possible" and float(lines[1][5]) == 10
     assert ["bea", "", "", "bea", "", "7.0"] in lines
     moodle = tmp_path / "moodle.csv"
     gradebook.main([str(course["reports"]), "--format", "moodle", "-o", str(moodle)])
-    lines = list(csv.reader(open(moodle)))
+    lines = lines_of(moodle)
     assert lines[0] == ["Username", "ID number", "Email address", ID] and ["ada", "", "", "10.0"] in lines
     bad = tmp_path / "bad.csv"
     bad.write_text("student,assignment,question,max_points,points\nada,04_color_maps,x,3,5\n")
@@ -266,7 +276,7 @@ def test_the_handouts_library_works_and_shows_no_answer(handout):
     done = _run(handout, """
 import inspect, lab, numpy as np
 from lab import check, colormaps
-assert lab.__file__.startswith(%r), lab.__file__
+assert lab.__file__.startswith("HANDOUT"), lab.__file__
 print(colormaps.h(np.array([0.0, 0.5, 1.0])).tolist())
 print("withheld" in inspect.getsource(colormaps.h), "np.where" in inspect.getsource(colormaps.h))
 p = lab.surfaces.practical().to_bezier_patches().refine(1)
@@ -274,7 +284,7 @@ p.visualize_curvature(p.CURVATURE_GAUSSIAN, p.COLOR_MAP_LINEAR)
 print(round(float(p.curvature.max()), 6), p.to_mesh().n_points)
 print(check.h(lambda x: (0.0, 4 * x, 1.0) if x <= 0.25 else (0.0, 1.0, 2 - 4 * x) if x <= 0.5 else
       (4 * x - 2, 1.0, 0.0) if x <= 0.75 else (1.0, 4 - 4 * x, 0.0)).status)
-""" % str(handout))
+""".replace("HANDOUT", str(handout)))
     assert done.returncode == 0, done.stderr
     lines = done.stdout.splitlines()
     assert lines[0] == "[[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]"

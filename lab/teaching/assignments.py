@@ -63,7 +63,7 @@ def load(path):
     path = Path(path)
     try:
         nb = nbformat.read(str(path), as_version=4)
-    except Exception as exc:
+    except Exception as exc:  # noqa: BLE001 - whatever makes it unreadable is said in the AssignmentError
         raise AssignmentError(_("cannot read the assignment {path}: {error}").format(
             path=path, error=f"{type(exc).__name__}: {exc}")) from None
     meta = nb.metadata.get("lab", {})

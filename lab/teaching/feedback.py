@@ -19,13 +19,17 @@ import sys
 from pathlib import Path
 
 from .. import i18n
-from ..i18n import _
+from ..i18n import N_, _
 from .grading import GradeResult
 from .pages import STATUS_COLOURS, e, page
 from .untrusted import clean
 
 __all__ = ["GENERATOR", "FeedbackError", "feedback", "main", "render", "write_into_home"]
 
+#: The statuses of a case, as a page shows them.
+STATUS_WORDS = {"passed": N_("passed"), "failed": N_("failed"), "error": N_("error"),
+                "not implemented": N_("not implemented"), "timeout": N_("timeout"), "delegated": N_("delegated"),
+                "not run": N_("not run")}
 #: Marks a page written by this command (a page without it is never replaced).
 GENERATOR = "<meta name='generator' content='curvature-lab feedback'>"
 
@@ -35,15 +39,17 @@ class FeedbackError(ValueError):
 
 
 def _case_rows(task):
+    labels = (_("expected:"), _("got:"), _("hint:"))
     rows = []
     for c in task.get("cases", []):
         status = c.get("status", "")
         detail = ""
         if status != "passed":
-            parts = [(_("expected:"), c.get("expected", "")), (_("got:"), c.get("got", "")), (_("hint:"), c.get("hint", ""))]
-            detail = "<br>".join(f"<b>{e(label)}</b> {e(clean(text))}" for label, text in parts if text)
+            texts = (c.get("expected", ""), c.get("got", ""), c.get("hint", ""))
+            detail = "<br>".join(f"<b>{e(label)}</b> {e(clean(text))}" for label, text in zip(labels, texts) if text)
+        word = _(STATUS_WORDS[status]) if status in STATUS_WORDS else ""
         rows.append(f"<tr><td>{e(clean(c.get('name', ''), 300))}</td><td class='{STATUS_COLOURS.get(status, '')}'>"
-                    f"{e(_(status) if status else '')}</td><td>{detail}</td></tr>")
+                    f"{e(word)}</td><td>{detail}</td></tr>")
     return rows
 
 
@@ -51,25 +57,29 @@ def render(result):
     """The feedback page of a :class:`~lab.teaching.grading.GradeResult`, in its language."""
     with i18n.using(result.lang):
         title = _("Feedback: {assignment}").format(assignment=result.assignment or result.notebook)
-        body = [GENERATOR, f"<h1>{e(title)}</h1>",
-                f"<p class='score'>{e(_('{score} of {max} points').format(score=f'{result.score:g}', max=f'{result.max_score:g}'))}</p>"]
+        score = _("{score} of {max} points").format(score=f"{result.score:g}", max=f"{result.max_score:g}")
+        body = [GENERATOR, f"<h1>{e(title)}</h1>", f"<p class='score'>{e(score)}</p>"]
         if result.error:
             body.append(f"<p class='error'>{e(clean(result.error))}</p>")
+        head = (_("case"), _("status"))
         for t in result.tasks:
             got = round(t["points"] * t["score"], 2)
             body.append(f"<section><h2>{e(t['task'])} ({e(clean(t['object'], 100))}): {got:g} / {t['points']:g}</h2>"
                         f"<pre>{e(clean(t.get('message', '')))}</pre>")
             rows = _case_rows(t)
             if rows:
-                body.append(f"<table><tr><th>{e(_('case'))}</th><th>{e(_('status'))}</th><th></th></tr>"
-                            + "".join(rows) + "</table>")
+                body.append(f"<table><tr><th>{e(head[0])}</th><th>{e(head[1])}</th><th></th></tr>" + "".join(rows)
+                            + "</table>")
             body.append("</section>")
-        notes = [clean(n) for n in result.notes] + [_("cell {index}: {error}").format(index=x["cell"], error=clean(x["error"]))
-                                                   for x in result.cell_errors if x.get("kind") not in ("withheld", "follows")]
+        notes = [clean(n) for n in result.notes] + [
+            _("cell {index}: {error}").format(index=x["cell"], error=clean(x["error"]))
+            for x in result.cell_errors if x.get("kind") not in ("withheld", "follows")]
         if notes:
-            body.append(f"<h2>{e(_('Notes'))}</h2><ul>" + "".join(f"<li>{e(n)}</li>" for n in notes) + "</ul>")
+            body.append("<h2>" + e(_("Notes")) + "</h2><ul>")
+            body.append("".join(f"<li>{e(n)}</li>" for n in notes) + "</ul>")
         if result.seed is not None:
-            body.append(f"<p class='none'>{e(_('seed {seed}: the cases of this run').format(seed=result.seed))}</p>")
+            seed = _("seed {seed}: the cases of this run").format(seed=result.seed)
+            body.append(f"<p class='none'>{e(seed)}</p>")
         return page(title, "\n".join(body), result.lang)
 
 

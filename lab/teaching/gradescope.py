@@ -25,7 +25,7 @@ import sys
 import zipfile
 from pathlib import Path
 
-from .assignments import AssignmentError, DEFAULT_FOLDER, load
+from .assignments import DEFAULT_FOLDER, AssignmentError, load
 from .grading import VISIBILITY
 
 __all__ = ["build", "main"]

@@ -111,7 +111,7 @@ def encode(value):
 
 def _decode_array(obj):
     if not isinstance(obj, dict) or not isinstance(obj.get("shape"), list) or not isinstance(obj.get("data"), list):
-        raise ValueError("malformed array")
+        raise ValueError("malformed array")  # noqa: TRY004 - decode's contract: ValueError for anything malformed
     if len(obj["shape"]) > 8 or not all(type(s) is int and 0 <= s <= MAX_VALUES for s in obj["shape"]):
         raise ValueError("malformed array shape")
     shape = tuple(obj["shape"])
@@ -129,7 +129,7 @@ def decode(obj):
     malformed (a result that did not come from :func:`encode`).
     """
     if not isinstance(obj, dict):
-        raise ValueError("malformed result")
+        raise ValueError("malformed result")  # noqa: TRY004 - decode's contract: ValueError for anything malformed
     kind = obj.get("kind")
     if kind == "array":
         return _decode_array(obj)

@@ -80,8 +80,8 @@ def exact_corners(nets):
     for p, P in enumerate(nets):
         for (a, b), c in analytic.bezier_corner_curvature_exact(P).items():
             c = analytic.to_float(c)
-            for k in out:
-                out[k][p, a, b] = getattr(c, k)
+            for k, values in out.items():
+                values[p, a, b] = getattr(c, k)
     return out
 
 

@@ -42,7 +42,7 @@ from .sandbox import by_module_file
 from .tasks import TASKS
 from .tasks_curvature import ANALYTIC_BLOCK
 
-__all__ = ["MARK", "ReleaseError", "WHOLE_MODULES", "main", "release", "solution_lines", "solution_lines_in"]
+__all__ = ["MARK", "WHOLE_MODULES", "ReleaseError", "main", "release", "solution_lines", "solution_lines_in"]
 
 ROOT = Path(__file__).resolve().parents[2]
 MARK = ".lab-release"
@@ -182,12 +182,13 @@ def _solution_blocks(cell):
     return [m.group(1).split("\n") for m in pattern.finditer(cell.source)]
 
 
-def solution_lines_in(tree, lines=None):
+def solution_lines_in(tree, lines=None, skip=()):
     """``[(file, notebook, solution line)]``: every solution line found in any file under ``tree`` (text files line
-    by line with spaces ignored, every other file as bytes)."""
+    by line with spaces ignored, every other file as bytes); top-level folders ``skip`` are not searched."""
     lines = solution_lines() if lines is None else lines
     hits = []
-    for path in sorted(p for p in Path(tree).rglob("*") if p.is_file() and ".git" not in p.relative_to(tree).parts):
+    for path in sorted(p for p in Path(tree).rglob("*") if p.is_file() and ".git" not in p.relative_to(tree).parts
+                       and p.relative_to(tree).parts[0] not in skip):
         data = path.read_bytes()
         try:
             text = data.decode("utf-8")
@@ -292,7 +293,7 @@ def release(out, *, self_study=False, pythons=(sys.executable,), git=False, chec
     (out / ".gitignore").write_text(".venv/\n*.egg-info/\n.ipynb_checkpoints/\n")
     (out / MARK).write_text(json.dumps({"self_study": self_study, "python": tags,
                                         "date": datetime.datetime.now().isoformat(timespec="seconds")}) + "\n")
-    hits = solution_lines_in(out)
+    hits = solution_lines_in(out, skip=("lab",) if self_study else ())  # self-study: the references are meant
     if hits:
         raise ReleaseError("solution lines in the hand-out: " + "; ".join(
             f"{p.relative_to(out)}: {line!r} (from {nb})" for p, nb, line in hits[:10]))

@@ -16,7 +16,7 @@ import os
 from .protocol import decode
 from .untrusted import UntrustedError, clean, loads, read_file
 
-__all__ = ["CELL_KINDS", "InvalidResults", "MAX_CELL_ERRORS", "OUTCOMES", "open_folder", "read_cells", "read_outcomes"]
+__all__ = ["CELL_KINDS", "MAX_CELL_ERRORS", "OUTCOMES", "InvalidResults", "open_folder", "read_cells", "read_outcomes"]
 
 #: Largest result file of one task read back (bytes), and largest cells.json.
 MAX_TASK_FILE = 64 << 20

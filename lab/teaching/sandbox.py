@@ -253,22 +253,22 @@ class Sandbox:
             json.dump(self._limits(), fh)
         # the launcher as a script in isolated mode: it needs no lab, and the child's PYTHONPATH must not matter
         launcher = [sys.executable, "-I", str(Path(__file__).with_name("launch.py")), fh.name, "--"]
-        err = tempfile.TemporaryFile()
-        try:
-            proc = subprocess.Popen(launcher + self.command(argv), stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                    stderr=err, env=env, cwd=str(self.workdir), start_new_session=True)
-            timed_out = False
+        with tempfile.TemporaryFile() as err:
             try:
-                proc.wait(timeout=timeout)
-            except subprocess.TimeoutExpired:
-                timed_out = True
+                proc = subprocess.Popen(launcher + self.command(argv), stdin=subprocess.DEVNULL,
+                                        stdout=subprocess.DEVNULL, stderr=err, env=env, cwd=str(self.workdir),
+                                        start_new_session=True)
+                timed_out = False
+                try:
+                    proc.wait(timeout=timeout)
+                except subprocess.TimeoutExpired:
+                    timed_out = True
+                finally:
+                    self._kill(proc)
             finally:
-                self._kill(proc)
-        finally:
-            os.unlink(fh.name)
-        err.seek(0)
-        tail = err.read()[-4000:].decode("utf-8", "replace")
-        err.close()
+                os.unlink(fh.name)
+            err.seek(0)
+            tail = err.read()[-4000:].decode("utf-8", "replace")
         return proc.returncode, timed_out, tail
 
     def _kill(self, proc):

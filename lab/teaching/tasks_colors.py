@@ -26,7 +26,10 @@ VISUALIZE_BLOCK = tuple(dict.fromkeys(CURVATURE_BLOCK + BEZIER_BLOCK + COLOR_BLO
 )))
 
 
-def _scalar_judge(hint_fn, what=N_("one number")):
+_ONE_NUMBER = N_("one number")
+
+
+def _scalar_judge(hint_fn, what=_ONE_NUMBER):
     def judge(case, value, exp):
         exp = np.asarray(exp, dtype=float)
         if not isinstance(value, np.ndarray) or value.shape != exp.shape:
@@ -80,7 +83,7 @@ def _f2_cases(rng, graded):
 
 
 def _f2_hint(args, val, exp):
-    x, lo, hi = args
+    _x, lo, hi = args
     if hi == lo:
         return _("when all curvature values are equal, κmax − κmin = 0 and the quotient is 0/0: "
                  "return 0.5 (green) in that case.")

@@ -155,7 +155,7 @@ def _start_expected(case):
 
 
 def _start_hint(args, val, exp):
-    xu, xv, alpha = args
+    xu, xv, _alpha = args
     E, F, G = xu @ xu, xu @ xv, xv @ xv
     speed = E * val[0] ** 2 + 2 * F * val[0] * val[1] + G * val[1] ** 2
     if close(val, exp[::-1]):

@@ -19,7 +19,7 @@ import os
 import stat
 from pathlib import Path
 
-__all__ = ["UntrustedError", "MAX_TEXT", "clean", "csv_cell", "loads", "plain_file", "read_file"]
+__all__ = ["MAX_TEXT", "UntrustedError", "clean", "csv_cell", "loads", "plain_file", "read_file"]
 
 #: Longest text of one message kept from a submission (characters).
 MAX_TEXT = 2000

@@ -102,17 +102,20 @@ def collect_answers(out_dir, assignment_id, exercise_nb, answers_by_student, lan
 
 
 def _page(assignment_id, questions, answers_by_student):
-    parts = [f"<h1>{e(_('Written answers: {id}').format(id=assignment_id))}</h1>"]
+    title = _("Written answers: {id}").format(id=assignment_id)
+    none = _("(no answer)")
+    parts = [f"<h1>{e(title)}</h1>"]
     for k, q in enumerate(questions, 1):
-        parts.append(f"<section><h2>{e(_('Question {k}').format(k=k))} <small>({e(q.cell)}, "
-                     f"{e(_('{points} points').format(points=f'{q.points:g}'))})</small></h2>"
+        head = _("Question {k}").format(k=k)
+        points = _("{points} points").format(points=f"{q.points:g}")
+        parts.append(f"<section><h2>{e(head)} <small>({e(q.cell)}, {e(points)})</small></h2>"
                      f"<div class='q'>{e(q.text)}</div>")
         for student, answers in sorted(answers_by_student.items()):
             text = answers.get(q.cell, "")
-            body = e(text) if text else f"<span class='none'>{e(_('(no answer)'))}</span>"
+            body = e(text) if text else f"<span class='none'>{e(none)}</span>"
             parts.append(f"<h3>{e(clean(student, 100))}</h3><div class='a'>{body}</div>")
         parts.append("</section>")
-    return page(_("Written answers: {id}").format(id=assignment_id), "".join(parts), language())
+    return page(title, "".join(parts), language())
 
 
 def read_written(path):
