@@ -12,6 +12,7 @@ import os
 import shutil
 import subprocess
 import time
+from pathlib import Path
 from urllib.parse import urlsplit
 
 import pytest
@@ -145,3 +146,78 @@ def test_exercises_handed_out_with_nbgitpuller_never_overwrite_edits(hub, tmp_pa
     import json
 
     json.loads(after)  # and the notebook is still valid JSON
+
+
+def _save_as(src, dst, when):
+    """What a student's save does: the notebook's new content, at the time ``when``."""
+    dst.write_bytes(Path(src).read_bytes())
+    os.utime(dst, (when.timestamp(), when.timestamp()))
+
+
+@pytest.mark.skipif(shutil.which("git") is None, reason="git is missing")
+def test_a_course_from_handout_to_gradebook(hub, tmp_path):
+    """The hand-out reaches two students through nbgitpuller (one German), with no solution in either home; one
+    hands in a correct 05, the other a wrong one after the deadline; collect, grade the mixed folder, feedback (each
+    student's JupyterLab shows it), gradebook with totals and the late penalty."""
+    import csv
+    import datetime
+
+    import nbformat
+    from playwright.sync_api import sync_playwright
+
+    from lab.teaching import batch, collect, feedback, gradebook, release
+
+    url, root = hub
+    handout = release.release(tmp_path / "curvature-lab-student", git=True)
+    students = {"uli": "de", "vic": "en"}
+    homes = root / "home"
+    nb_path = {u: homes / u / "curvature-lab-student" / "exercises" / lang / NOTEBOOK for u, lang in students.items()}
+    deadline = datetime.datetime(2026, 12, 15, 23, 59, tzinfo=datetime.timezone.utc)
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        pages = {}
+        for user, lang in students.items():
+            (homes / user).mkdir(parents=True, exist_ok=True)
+            page = login(browser.new_context(viewport={"width": 1300, "height": 900}), url, user)
+            link = (f"{url}/hub/user-redirect/git-pull?repo=file://{handout}&branch=main"
+                    f"&urlpath=lab/tree/curvature-lab-student/exercises/{lang}/{NOTEBOOK}")
+            page.goto(link)
+            page.wait_for_url(f"**/lab/tree/curvature-lab-student/exercises/{lang}/{NOTEBOOK}**", timeout=240_000)
+            pages[user] = page
+            assert nb_path[user].exists()
+            assert release.solution_lines_in(homes / user) == [], f"a solution line in {user}'s home"
+        # uli hands in the German solution on time; vic a wrong one (degree factors left out) two days late
+        _save_as(ROOT / "solutions" / "de" / NOTEBOOK, nb_path["uli"], deadline - datetime.timedelta(hours=1))
+        wrong = nbformat.read(ROOT / "solutions" / "en" / NOTEBOOK, as_version=4)
+        cell = next(c for c in wrong.cells if "class MyBezierPatches" in c.source)
+        cell.source = (cell.source.replace("bu = m * (", "bu = (").replace("bv = n * (", "bv = (")
+                       .replace("buu = m * (m - 1) * (", "buu = (").replace("buv = m * n * (", "buv = (")
+                       .replace("bvv = n * (n - 1) * (", "bvv = ("))
+        nbformat.write(wrong, nb_path["vic"])
+        late = deadline + datetime.timedelta(days=1, hours=2)
+        os.utime(nb_path["vic"], (late.timestamp(), late.timestamp()))
+        subs, reports = tmp_path / "subs", tmp_path / "reports"
+        rows = {r["student"]: r for r in collect.collect(homes, "05_visualize_curvature", deadline.isoformat(), subs,
+                                                         roster=list(students))}
+        assert rows["uli"]["late"] is False and rows["vic"]["late"] is True
+        results = {r.student: r for r in batch.grade_folder(subs, reports, jobs=2, timeout=120)
+                   if r.student in students}
+        assert results["uli"].score == 10 and results["uli"].lang == "de"
+        assert results["vic"].score < 10 and results["vic"].lang == "en"
+        feedback.feedback([reports], homes)
+        for user, text in (("uli", "10 von 10 Punkten"), ("vic", "degree factor")):
+            page = pages[user]
+            page.goto(f"{url}/user/{user}/lab/tree/feedback/05_visualize_curvature.html")
+            frame = page.frame_locator(".jp-HTMLViewer iframe").first
+            frame.locator("body").wait_for(timeout=120_000)
+            shown = frame.locator("body").inner_text(timeout=120_000)
+            assert text in shown, f"{user}'s JupyterLab shows: {shown[:300]}"
+            page.screenshot(path=str(tmp_path / f"feedback-{user}.png"))
+        browser.close()
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(reports), "--late-penalty", "20", "--format", "csv", "-o", str(out)]) == 0
+    with open(out, newline="") as fh:
+        table = {r["student"]: r for r in csv.DictReader(fh)}
+    assert float(table["uli"]["total"]) == 10
+    assert float(table["vic"]["total"]) == round(results["vic"].score * 0.6, 2)  # 2 started days late: 40 % off
+    assert table["vic"]["05_visualize_curvature late days"] == "2"
