@@ -408,3 +408,42 @@ def test_every_case_of_a_seed_sweep_has_a_finite_exact_answer(name):
         for graded in (False, True):
             for case in task.make_cases(np.random.default_rng(seed), graded):
                 assert _all_finite(task.expected(case)), (seed, graded, case.name)
+
+
+# -- the check's own options, and what student code may raise or return (issue 19) -------------------------------
+
+@pytest.mark.parametrize("timeout", [-1, 0, float("nan"), float("inf"), "10", True])
+def test_bad_check_options_are_the_callers_mistake(timeout):
+    with pytest.raises(ValueError, match="timeout must be a positive number of seconds"):
+        check.warmup(lambda k1, k2: (k1 + k2) / 2, timeout=timeout)
+    with pytest.raises(ValueError, match="seed must be a non-negative integer; got -3"):
+        check.warmup(lambda k1, k2: (k1 + k2) / 2, seed=-3)
+
+
+def test_exit_and_keyboard_interrupt_in_student_code_do_not_escape():
+    import sys
+
+    def leaves(k1, k2):
+        sys.exit(3)
+
+    report = check.warmup(leaves)
+    assert report.status == "error" and "SystemExit: 3" in report.cases[0].got
+
+    def interrupted(k1, k2):
+        raise KeyboardInterrupt
+
+    report = check.warmup(interrupted)
+    assert report.status == "timeout" and "KeyboardInterrupt" in report.cases[0].got
+    assert [c.status for c in report.cases[1:]] == ["not run"] * (len(report.cases) - 1)
+
+
+@pytest.mark.parametrize("value, shown", [
+    ("0.5", "text '0.5', not a number"),
+    (None, "None (did the function forget to return its result?)"),
+    (True, "True/False, not a number"),
+    (1 + 2j, "complex numbers (1+2j)"),
+])
+def test_results_of_the_wrong_kind_are_named(value, shown):
+    report = check.f1(lambda x: value)
+    assert report.status == "failed" and report.score == 0
+    assert shown in report.cases[0].got, report.cases[0].got

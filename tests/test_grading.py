@@ -206,3 +206,41 @@ def test_without_bubblewrap_the_report_names_the_missing_protections():
 def test_with_bubblewrap_no_protection_is_missing_but_the_process_limit_where_cgroups_are_read_only():
     result = grading.grade_notebook(SOLUTION / "00_start.ipynb")
     assert all("process count" in m for m in result.missing_protections)
+
+
+def test_a_corrupt_notebook_scores_zero_of_the_assignments_points(tmp_path):
+    (tmp_path / "00_start.ipynb").write_text('{"cells": [ broken')
+    result = grading.grade_notebook(tmp_path / "00_start.ipynb")
+    assert result.error.startswith("cannot read the notebook") and (result.score, result.max_score) == (0, 1)
+    assert result.assignment == "00_start" and result.tasks[0]["task"] == "warmup" and not result.passed
+    result = grading.grade_notebook(tmp_path / "00_start.ipynb", assignment=EXERCISE / "01_curves_and_orientation.ipynb")
+    assert (result.score, result.max_score) == (0, 2) and "cannot read the notebook" in result.tasks[0]["report"]
+
+
+@pytest.mark.parametrize("body, message", [
+    ("def mean_curvature(k1, k2)\n    return (k1 + k2) / 2", "has a syntax error (SyntaxError"),
+    ("import os\nos._exit(1)\ndef mean_curvature(k1, k2):\n    return (k1 + k2) / 2", "the kernel died while cell"),
+], ids=["syntax-error", "dead-kernel"])
+def test_syntax_errors_and_dead_kernels_are_named_not_not_implemented(tmp_path, body, message):
+    nb = nbformat.read(SOLUTION / "00_start.ipynb", as_version=4)
+    cell = next(c for c in nb.cells if "def mean_curvature" in c.source)
+    cell.source = body
+    nbformat.write(nb, tmp_path / "00_start.ipynb")
+    result = grading.grade_notebook(tmp_path / "00_start.ipynb", timeout=60)
+    (task,) = result.tasks
+    assert task["status"] == "error" and "not implemented" not in task["report"], result.text()
+    assert "mean_curvature was never defined" in task["report"] and message in task["report"]
+    assert f"cell {nb.cells.index(cell)}, which defines it" in task["report"]
+
+
+def test_the_file_name_decides_the_assignment_and_a_claim_is_noted(tmp_path):
+    nb = nbformat.read(SOLUTION / "00_start.ipynb", as_version=4)
+    nb.metadata["lab"]["assignment"] = "09_dill_gallery"  # task-less: claiming it must not make a pass
+    nbformat.write(nb, tmp_path / "00_start.ipynb")
+    result = grading.grade_notebook(tmp_path / "00_start.ipynb")
+    assert result.assignment == "00_start" and result.score == result.max_score == 1
+    assert any("says it is assignment '09_dill_gallery', its file name says '00_start'" in n for n in result.notes)
+    shutil.copy(tmp_path / "00_start.ipynb", tmp_path / "my_work.ipynb")  # no assignment by that name: the claim
+    other = grading.grade_notebook(tmp_path / "my_work.ipynb")
+    assert other.assignment == "09_dill_gallery" and other.tasks == [] and not other.passed
+    assert "no graded tasks" in other.text()
