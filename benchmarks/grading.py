@@ -109,13 +109,19 @@ def whole_class(n):
     with tempfile.TemporaryDirectory() as tmp:
         subs = Path(tmp) / "subs"
         expected = mixed_class(subs, n)
-        load0, t, cpu0 = os.getloadavg()[0], time.perf_counter(), os.times()
+        load0, t, cpu0 = os.getloadavg()[0], time.perf_counter(), machine_busy()
         graded = batch.grade_folder(subs, Path(tmp) / "reports", jobs=2)
-        wall, cpu1 = time.perf_counter() - t, os.times()
+        wall, cpu = time.perf_counter() - t, machine_busy() - cpu0
         assert [r.score for r in graded] == expected, [r.score for r in graded]
         assert {r.lang for r in graded} == {"en", "de"}
-    children = (cpu1.children_user + cpu1.children_system) - (cpu0.children_user + cpu0.children_system)
-    return wall, load0, os.getloadavg()[0], children
+    return wall, load0, os.getloadavg()[0], cpu
+
+
+def machine_busy():
+    """CPU seconds the whole machine has been busy (all cores, /proc/stat): the sandboxes' share is not separable
+    from the rest, so it is an upper bound of the grading's CPU time."""
+    fields = [int(x) for x in Path("/proc/stat").read_text().split("\n")[0].split()[1:]]
+    return (sum(fields) - fields[3] - fields[4]) / os.sysconf("SC_CLK_TCK")
 
 
 def crash_and_resume(n):
@@ -196,10 +202,10 @@ def main(argv=None):
         print(f"\n| a class of {args.size}, English and German mixed, -j 2 | value |")
         print("|---|---:|")
         print(f"| wall time | {wall:.0f} s ({per:.1f} s per submission) |")
-        print(f"| CPU time of the sandboxes | {cpu:.0f} s ({cpu / args.size:.1f} s per submission) |")
+        print(f"| CPU time of the machine meanwhile (all cores) | {cpu:.0f} s ({cpu / args.size:.1f} s per submission) |")
         print(f"| load average, start / end | {load0:.1f} / {load1:.1f} |")
         print(f"| estimate for 200 students at -j 2 on 2 cores | {200 * per / 60:.0f} min |")
-        print(f"| estimate for 200 students at -j 8 on 8 cores | {200 * cpu / args.size / 8 / 60:.0f} min (CPU time / cores) |")
+        print(f"| estimate for 200 students at -j 8 on 8 cores | {200 * cpu / args.size / 8 / 60:.1f} min (CPU time / cores) |")
     if "crash" in only:
         done, kept, regraded, wall = crash_and_resume(args.size)
         print(f"\n| a crash half way ({args.size} submissions, killed with SIGKILL) | value |")
