@@ -38,7 +38,7 @@ from pathlib import Path
 import nbformat
 
 from . import notebooks
-from .sandbox import by_module_file
+from .sandbox import by_module_file, functions_named
 from .tasks import TASKS
 from .tasks_curvature import ANALYTIC_BLOCK
 
@@ -78,27 +78,14 @@ def _strip_bodies(path, module, names):
     """Replace the bodies of ``names`` in the file ``path`` by the withheld line, keeping every other line."""
     text = path.read_text()
     lines = text.split("\n")
-    tree = ast.parse(text)
-    wanted, found = set(names), set()
-
-    def visit(body, prefix):
-        for node in body:
-            if isinstance(node, ast.ClassDef):
-                visit(node.body, f"{prefix}{node.name}.")
-            elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and f"{prefix}{node.name}" in wanted:
-                found.add(f"{prefix}{node.name}")
-                # the body and the docstring's discussion (the pros and cons of a map are a written answer) go;
-                # the docstring's first paragraph stays
-                start, end = node.body[0].lineno - 1, node.end_lineno
-                indent = re.match(r"\s*", lines[start]).group()
-                doc = (ast.get_docstring(node, clean=True) or "").split("\n\n")[0]
-                keep = [f"{indent}{_docstring(doc)}"] if doc else []
-                stub = keep + [_withheld_stub(f"{module}.{prefix}{node.name}", indent)]
-                lines[start:end] = stub + [""] * max(0, end - start - len(stub))
-
-    visit(tree.body, "")
-    if wanted - found:
-        raise ReleaseError(f"cannot withhold {sorted(wanted - found)}: not found in {path}")
+    for qual, node in functions_named(ast.parse(text), names, path):
+        # the body and the docstring's discussion (the pros and cons of a map are a written answer) go;
+        # the docstring's first paragraph stays; the line numbers of everything else stay too
+        start, end = node.body[0].lineno - 1, node.end_lineno
+        indent = re.match(r"\s*", lines[start]).group()
+        doc = (ast.get_docstring(node, clean=True) or "").split("\n\n")[0]
+        stub = ([f"{indent}{_docstring(doc)}"] if doc else []) + [_withheld_stub(f"{module}.{qual}", indent)]
+        lines[start:end] = stub + [""] * max(0, end - start - len(stub))
     path.write_text("\n".join(lines))
 
 

@@ -54,25 +54,32 @@ OPEN_FILES = 1024
 PROCESSES = 256  # processes and threads of a submission together (a kernel has about 10 threads)
 
 
-def strip_module(path, module, names, stub=stub_source):
-    """Replace the bodies of the functions/methods ``names`` (dotted within ``module``) by ``stub(qualified name)``
-    (default: the withheld stub of the graded run), keeping their signatures and docstrings."""
-    tree = ast.parse(path.read_text(), str(path))
-    wanted, found = set(names), set()
+def functions_named(tree, names, where):
+    """``(qualified name within the module, node)`` of the functions and methods ``names`` in the module ``tree``;
+    raises ``ValueError`` naming ``where`` when one is not there."""
+    wanted, found = set(names), []
 
     def visit(body, prefix):
         for node in body:
             if isinstance(node, ast.ClassDef):
                 visit(node.body, f"{prefix}{node.name}.")
             elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and f"{prefix}{node.name}" in wanted:
-                qual = f"{prefix}{node.name}"
-                doc = [node.body[0]] if ast.get_docstring(node) else []
-                node.body = doc + ast.parse(stub(f"{module}.{qual}")).body
-                found.add(qual)
+                found.append((f"{prefix}{node.name}", node))
 
     visit(tree.body, "")
-    if wanted - found:
-        raise ValueError(f"cannot withhold {sorted(wanted - found)}: not found in {path}")
+    missing = wanted - {q for q, _ in found}
+    if missing:
+        raise ValueError(f"cannot withhold {sorted(missing)}: not found in {where}")
+    return found
+
+
+def strip_module(path, module, names):
+    """Replace the bodies of the functions/methods ``names`` (dotted within ``module``) by the withheld stub,
+    keeping their signatures and docstrings."""
+    tree = ast.parse(path.read_text(), str(path))
+    for qual, node in functions_named(tree, names, path):
+        doc = [node.body[0]] if ast.get_docstring(node) else []
+        node.body = doc + ast.parse(stub_source(f"{module}.{qual}")).body
     path.write_text(ast.unparse(tree) + "\n")
 
 
