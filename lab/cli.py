@@ -187,7 +187,7 @@ VERBS = {
     "exercises": ("notebooks", "generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/"),
     "release": ("release", "write the students' hand-out: exercises and the library without the answers"),
     "collect": ("collect", "collect an assignment from the students' homes, with hand-in times and lateness"),
-    "grade": ("grading", "grade a notebook or a folder of submissions in a sandbox"),
+    "grade": ("batch", "grade a notebook or a folder of submissions in a sandbox"),
     "feedback": ("feedback", "put each student's report into the student's home"),
     "gradebook": ("gradebook", "one row per student and a total, for Canvas, Moodle or CSV"),
     "gradescope": ("gradescope", "build a Gradescope autograder zip for an assignment"),

@@ -17,7 +17,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from lab.teaching import batch, collect, feedback, gradebook, gradescope, grading, release, sandbox, written
+from lab.teaching import batch, collect, feedback, gradebook, gradescope, release, sandbox, written
 
 ROOT = Path(__file__).resolve().parent.parent
 ID = "05_visualize_curvature"
@@ -346,5 +346,5 @@ def test_grade_cli_rejects_bad_options(capsys):
     for args, message in ((["--timeout", "-5"], "expected a positive number"), (["--memory", "0"], "positive"),
                           (["--memory", "100"], "at least 256")):
         with pytest.raises(SystemExit):
-            grading.main([str(SOLUTION["en"]), *args])
+            batch.main([str(SOLUTION["en"]), *args])
         assert message in capsys.readouterr().err

@@ -9,7 +9,7 @@ import nbformat
 import pytest
 
 from lab import grading
-from lab.teaching import assignments, sandbox
+from lab.teaching import assignments, batch, sandbox
 
 ROOT = Path(__file__).resolve().parent.parent
 LANGS = ("en", "de")
@@ -167,7 +167,7 @@ def test_folder_of_submissions_with_reports_summary_and_gradescope(tmp_path):
     shutil.copy(SOLUTION / "01_curves_and_orientation.ipynb", subs / "ada" / "01_curves_and_orientation.ipynb")
     shutil.copy(EXERCISE / "01_curves_and_orientation.ipynb", subs / "bob.ipynb")
     out = tmp_path / "reports"
-    code = grading.main([str(subs), "--out", str(out), "-j", "2", "--seed", "7", "--format", "gradescope",
+    code = batch.main([str(subs), "--out", str(out), "-j", "2", "--seed", "7", "--format", "gradescope",
                          "--assignment", str(EXERCISE / "01_curves_and_orientation.ipynb")])
     assert code == 1  # bob has not done the task
     rows = list(csv.DictReader(open(out / "summary.csv")))
@@ -185,13 +185,13 @@ def test_folder_of_submissions_with_reports_summary_and_gradescope(tmp_path):
 
 def test_cli_json_gradescope_and_exit_status(capsys):
     path = SOLUTION / "00_start.ipynb"
-    assert grading.main([str(path), "--json"]) == 0
+    assert batch.main([str(path), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["score"] == data["max_score"] == 1 and data["tasks"][0]["cases"]
-    assert grading.main([str(path), "--format", "gradescope"]) == 0
+    assert batch.main([str(path), "--format", "gradescope"]) == 0
     gs = json.loads(capsys.readouterr().out)
     assert gs["score"] == 1 and gs["tests"][0]["name"] == "warmup (mean_curvature)"
-    assert grading.main([str(EXERCISE / "00_start.ipynb")]) == 1
+    assert batch.main([str(EXERCISE / "00_start.ipynb")]) == 1
     assert "not implemented yet" in capsys.readouterr().out
 
 

@@ -1,6 +1,7 @@
 """The autograder: submissions run in a sandbox, the answers and the verdicts stay outside.
 
-``curvature-lab grade NOTEBOOK.ipynb`` (or a folder of submissions, :mod:`lab.teaching.batch`) grades a notebook
+``curvature-lab grade NOTEBOOK.ipynb`` (or a folder of submissions; the command and folders are in
+:mod:`lab.teaching.batch`) grades a notebook
 on the tasks of its assignment (the instructor's, :mod:`lab.teaching.assignments`):
 
 1. The grader builds every case itself from a fresh seed (recorded in the report; ``--seed`` reproduces
@@ -19,7 +20,6 @@ This process never runs student code and never writes the submission.  Every tex
 submission is cleaned before it is shown (:func:`lab.teaching.untrusted.clean`).
 """
 
-import argparse
 import hashlib
 import json
 import math
@@ -48,8 +48,8 @@ from .tasks import TASKS
 from .tasks_curvature import ANALYTIC_BLOCK
 from .untrusted import UntrustedError, clean, read_file
 
-__all__ = ["MAX_NOTEBOOK", "VISIBILITY", "WITHHELD", "GradeResult", "Prepared", "grade_notebook", "main",
-           "read_submission", "submission_language"]
+__all__ = ["MAX_NOTEBOOK", "VISIBILITY", "WITHHELD", "GradeResult", "Prepared", "grade_notebook", "read_submission",
+           "submission_language", "write_atomic"]
 
 #: Kinds of cell errors that come from the withheld reference implementations, not from the student.
 WITHHELD = ("withheld", "follows")
@@ -386,105 +386,3 @@ def write_atomic(path, text):
     tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
     tmp.write_text(text)
     os.replace(tmp, path)
-
-
-def _positive(kind):
-    def parse(text):
-        try:
-            value = kind(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a number; got {text!r}") from None
-        if not math.isfinite(value) or value <= 0:
-            raise argparse.ArgumentTypeError(f"expected a positive number; got {text!r}")
-        return value
-
-    return parse
-
-
-def build_parser():
-    parser = argparse.ArgumentParser(
-        prog="curvature-lab grade",
-        description="Grade curvature-lab notebooks (one, or a folder of submissions) in a sandbox. A folder is "
-                    "SUBS/<student>/<assignment>.ipynb (as `curvature-lab collect` writes it) or SUBS/<student>.ipynb.")
-    parser.add_argument("path", help="a notebook, or a folder of submissions")
-    parser.add_argument("--assignment", help="the instructor's notebook, or a folder of them (also its en/, de/; "
-                                             "default: exercises/)")
-    parser.add_argument("--out", help="folder for the reports and summary.csv (folder mode; default: <path>-reports; "
-                                      "a notebook with --format gradescope: where results.json goes)")
-    parser.add_argument("-j", "--jobs", type=int, default=None, help="submissions graded in parallel (default: all cores)")
-    parser.add_argument("--seed", type=int, default=None, help="seed of the cases (default: fresh, recorded in the report)")
-    parser.add_argument("--resume", action="store_true",
-                        help="folder mode: keep the reports of an interrupted run (same seed, same notebooks), grade "
-                             "the rest")
-    parser.add_argument("--format", choices=("text", "json", "gradescope"), default="text", help="report format")
-    parser.add_argument("--json", action="store_true", help="the same as --format json")
-    parser.add_argument("--visibility", choices=VISIBILITY, default="visible",
-                        help="Gradescope: when students see the results (default: visible)")
-    parser.add_argument("--timeout", type=_positive(float), default=60, help="seconds per cell (default 60)")
-    parser.add_argument("--check-timeout", type=_positive(float), default=10,
-                        help="seconds per call of the student's code (default 10)")
-    parser.add_argument("--total-timeout", type=_positive(float), default=600,
-                        help="seconds per submission (default 600)")
-    parser.add_argument("--memory", type=_positive(int), default=MEMORY >> 20,
-                        help="MiB of memory per submission, all its processes and files together (default 2048)")
-    parser.add_argument("--disk", type=_positive(int), default=DISK >> 20,
-                        help="MiB a submission may write (default 512)")
-    parser.add_argument("--no-sandbox", action="store_true",
-                        help="grade without bubblewrap (limits and a process group only: the submission can read "
-                             "the course's files); required to grade a folder where bubblewrap cannot run")
-    return parser
-
-
-def main(argv=None):
-    from . import batch
-
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    fmt = "json" if args.json else args.format
-    path = Path(args.path)
-    if not path.exists():
-        parser.error(f"{path} does not exist")
-    if args.jobs is not None and args.jobs < 1:
-        parser.error(f"--jobs must be at least 1; got {args.jobs}")
-    if args.memory < 256:
-        parser.error(f"--memory must be at least 256 (MiB; a kernel needs about 200); got {args.memory}")
-    if args.disk < 16:
-        parser.error(f"--disk must be at least 16 (MiB); got {args.disk}")
-    kwargs = {"timeout": args.timeout, "check_timeout": args.check_timeout, "total_timeout": args.total_timeout,
-              "memory": args.memory << 20, "disk": args.disk << 20, "sandbox": False if args.no_sandbox else None}
-    if path.is_dir():
-        out = Path(args.out) if args.out else path.with_name(path.name + "-reports")
-        try:
-            results = batch.grade_folder(path, out, jobs=args.jobs, assignment=args.assignment, seed=args.seed,
-                                         fmt=fmt, resume=args.resume, visibility=args.visibility, **kwargs)
-        except batch.GradingError as exc:
-            print(f"curvature-lab grade: error: {exc}", file=sys.stderr)
-            return 2
-        if fmt == "json":
-            print(json.dumps([r.to_dict() for r in results], indent=2, ensure_ascii=False))
-        else:
-            for r in results:
-                print(clean(f"{r.notebook}: {r.score:g} / {r.max_score:g}" + (f"  ({r.error})" if r.error else ""), 400))
-            print(f"reports and summary.csv in {out}")
-        return 0 if results and all(r.passed for r in results) else 1
-    if path.suffix != ".ipynb":
-        parser.error(f"expected a .ipynb notebook or a folder; got {path}")
-    if args.resume:
-        parser.error("--resume applies to a folder of submissions")
-    result = grade_notebook(path, assignment=args.assignment, seed=args.seed, **kwargs)
-    for what in result.missing_protections:
-        print(f"curvature-lab grade: warning: missing protection: {what}", file=sys.stderr)
-    if fmt == "gradescope":
-        text = json.dumps(result.gradescope(args.visibility), indent=2, ensure_ascii=False)
-        if args.out:
-            Path(args.out).mkdir(parents=True, exist_ok=True)
-            write_atomic(Path(args.out) / "results.json", text)
-        else:
-            print(text)
-    else:
-        print(json.dumps(result.to_dict(), indent=2, ensure_ascii=False) if fmt == "json" else result.text())
-    return 0 if result.passed else 1
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
