@@ -71,6 +71,7 @@ _NAMES = {
                                     "geodesic_fan", "line_of_curvature", "lines_of_curvature", "normal_section",
                                     "normal_section_fan", "polar_isodistance"),
     "lab.interrogation.umbilics": ("Umbilic", "umbilics"),
+    "lab.interrogation.continuity": ("Continuity", "continuity"),
     "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
