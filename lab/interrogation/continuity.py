@@ -267,7 +267,7 @@ def _grid_edges(nets, w, seams, tol, size, samples, kind, knot_lines=None):
                     sl = slice(j * k, (j + 1) * k)
                     ia, ib = (a * C + j, b * C + j) if axis == 0 else (j * C + a, j * C + b)
                     edges.append(_edge("seam" if seam else kind, direction, None, (ia, ib), None,
-                                       dA.map(lambda x: x[sl]), dB.map(lambda x: x[sl]), tA[sl], tB[sl], tol, size))
+                                       dA.map(lambda x, sl=sl: x[sl]), dB.map(lambda x, sl=sl: x[sl]), tA[sl], tB[sl], tol, size))
     return edges
 
 
