@@ -61,7 +61,8 @@ from tests.occ_support import occt_surface  # the tests build the OpenCASCADE su
 
 
 def load():
-    return "load average %.2f %.2f %.2f on %d cores" % (*os.getloadavg(), os.cpu_count())
+    one, five, fifteen = os.getloadavg()
+    return f"load average {one:.2f} {five:.2f} {fifteen:.2f} on {os.cpu_count()} cores"
 
 
 def best_time(func, min_time=0.3, max_runs=5, min_runs=1):
@@ -142,7 +143,7 @@ def points_table(args, rng):
         (u0, u1), (v0, v1) = s.domain
         for n in args.points:
             u, v = rng.uniform(u0, u1, n), rng.uniform(v0, v1, n)
-            side = int(round(np.sqrt(n)))
+            side = round(np.sqrt(n))
             gu, gv = np.linspace(u0, u1, side), np.linspace(v0, v1, side)
             s.curvature(u[:100], v[:100])  # warm-up
             t_rand = best_time(lambda: s.curvature(u, v), min_runs=3) / n

@@ -9,7 +9,8 @@ The package is layered; a folder is a layer and imports only point down (``LAYER
 ``mesh/``          PyVista meshes with exact curvature, welding, level lines, geomview files
 ``model/``         the objects a student handles: surface classes, named surfaces, the practical's
                    ``BezierPatches``
-``interrogation/`` focal surfaces, reflection lines, geodesics and isodistance curves, trimmed surfaces
+``interrogation/`` focal surfaces, reflection lines, geodesics and isodistance curves, trimmed surfaces, real
+                   parts read from STEP/IGES/BREP/geomview/Rhino files (``lab.read``, OpenCASCADE only then)
 ``view/``          offscreen pictures and the interactive explorers (ipywidgets, trame)
 ``teaching/``      in-notebook checks and hints, the sandboxed grader, exercise generation
 =================  ======================================================================================
@@ -75,12 +76,13 @@ _NAMES = {
     "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
+    "lab.interrogation.cad": ("Model", "read"),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
     "lab.i18n": ("set_language", "language"),
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}
 
-__all__ = sorted(MODULES) + sorted(_ATTRIBUTES)
+__all__ = sorted(MODULES) + sorted(_ATTRIBUTES)  # noqa: PLE0605 - built from the lazy-import table so the two cannot drift
 
 
 def __getattr__(name):
