@@ -201,7 +201,7 @@ def _levels(g0, g1, g2, kn, tol, size):
 def _edges(meta, dA, dB, tA, tB, tol, size):
     """Edges from paired samples: fields of ``dA, dB`` and ``tA, tB`` have shape ``(edges, samples, 3)``;
     ``meta`` holds per edge ``(kind, direction, value, faces, multiplicity)``."""
-    flat = lambda x: x.reshape(-1, 3)  # noqa: E731
+    flat = lambda x: x.reshape(-1, 3)
     gap, angle, jump, kn = measures(dA.map(flat), dB.map(flat), flat(tA), flat(tB))
     shape = tA.shape[:2]
     gap, angle, jump, kn = (x.reshape(shape) for x in (gap, angle, jump, kn))
@@ -306,14 +306,14 @@ def _grid_edges(nets, w, seams, tol, size, samples, kind, knot_lines=None):
             lines = knot_lines[axis]
             meta = [("seam" if seam[i] else kind, direction, *lines[-1 if seam[i] else i][:1], None,
                      lines[-1 if seam[i] else i][1]) for i in range(len(a))]
-            merge = lambda x: x.reshape(x.shape[0], -1, 3)  # noqa: E731
+            merge = lambda x: x.reshape(x.shape[0], -1, 3)
         else:  # one edge per pair of neighbouring patches
             others = A.shape[1]
             flat = [(a[i] * C + j, b[i] * C + j) if axis == 0 else (j * C + a[i], j * C + b[i])
                     for i in range(len(a)) for j in range(others)]
             meta = [("seam" if seam[i] else kind, direction, None, flat[i * others + j], None)
                     for i in range(len(a)) for j in range(others)]
-            merge = lambda x: x.reshape(-1, x.shape[-2], 3)  # noqa: E731
+            merge = lambda x: x.reshape(-1, x.shape[-2], 3)
         edges += _edges(meta, dA.map(merge), dB.map(merge), merge(tA), merge(tB), tol, size)
     return edges
 

@@ -50,7 +50,7 @@ def exact(bu, bv, buu, buv, bvv, *, variant="right"):
 
     with mpmath.workdps(40):
         bu, bv, buu, buv, bvv = ([Fraction(float(c)) for c in x] for x in (bu, bv, buu, buv, bvv))
-        dot = lambda a, b: sum(x * y for x, y in zip(a, b))  # noqa: E731
+        dot = lambda a, b: sum(x * y for x, y in zip(a, b))
         Q = [bu[1] * bv[2] - bu[2] * bv[1], bu[2] * bv[0] - bu[0] * bv[2], bu[0] * bv[1] - bu[1] * bv[0]]
         E, F, G = dot(bu, bu), dot(bu, bv), dot(bv, bv)
         det = E * G - F * F
@@ -61,7 +61,7 @@ def exact(bu, bv, buu, buv, bvv, *, variant="right"):
             S = [[A, B], [B, C]]
         else:  # H G^-1 times W
             S = [[(A * G - B * F) / det, (B * E - A * F) / det], [(B * G - C * F) / det, (C * E - B * F) / det]]
-        mp = lambda x: mpmath.mpf(x.numerator) / x.denominator  # noqa: E731
+        mp = lambda x: mpmath.mpf(x.numerator) / x.denominator
         am, s12, s21 = mp((S[0][0] - S[1][1]) / 2), mp(S[0][1]), mp(S[1][0])
         r = mpmath.sqrt(am * am + s12 * s21)
         # the sign of W > 0 does not change the eigenvectors, and their order by eigenvalue only through it
@@ -112,7 +112,7 @@ def _cases(rng, graded):
     ]
     cases = [CaseSpec(name, args) for name, args in fixed]
     for k in range(5 if graded else 2):
-        P, d = _net(rng)
+        d = _net(rng)[1]
         cases.append(CaseSpec(_("corner (u, v) = (0, 0) of a random bicubic net, no. {k}").format(k=k + 1), d))
     return cases
 
