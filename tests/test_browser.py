@@ -17,6 +17,7 @@ import shutil
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from .browser_support import (
@@ -325,4 +326,39 @@ def test_restart_and_rerun_brings_every_view_back(browser, lab_server, tmp_path)
         img = nb.wait_for_picture(ex, timeout=120)
         assert coverage(img) > 0.03, f"explorer {k} has no picture after the restart; see {nb.shot('restart')}"
     assert "42" in kernel_value(nb, "6 * 7, dict(e.counts)")
+    nb.page.close()
+
+
+#: the other explorers, and the curvature explorer on a student's class (its status line is the longest)
+MORE_EXPLORERS = [
+    "import lab\nfrom lab import surfaces\n\nclass Mine(lab.BezierPatches):\n"
+    "    def visualize_curvature(self, curvature_mode, color_map):\n"
+    "        lab.BezierPatches.visualize_curvature(self, curvature_mode, color_map)",
+    "s = lab.CurvatureExplorer(surfaces.practical(), Mine, depth=1)\ns",
+    "r = lab.ReflectionExplorer(surfaces.hood(), resolution=32)\nr",
+    "f = lab.FocalExplorer(surfaces.torus(2.0, 1.0), resolution=24)\nf",
+]
+
+
+@pytest.mark.parametrize("lang", ["en", "de"])
+def test_every_explorer_keeps_its_labels_and_status_on_one_line(browser, lab_server, tmp_path, lang):
+    """No label cut off in the reflection, focal and student's curvature explorers ("stripes / li…"), in either
+    language; the status line of each explorer stays one line high; the control net shows when ticked."""
+    cells = [MORE_EXPLORERS[0] + f"\nlab.set_language({lang!r})"] + MORE_EXPLORERS[1:]
+    nb = _open(browser, lab_server, tmp_path, f"more-{lang}.ipynb", cells)
+    _check_layout(nb, f"more-{lang}")
+    for k in range(nb.explorers().count()):
+        ex = nb.explorers().nth(k)
+        height = ex.locator(".lab-status").evaluate("el => el.getBoundingClientRect().height")
+        line = ex.locator(".lab-status").evaluate("el => parseFloat(getComputedStyle(el).lineHeight) || 17")
+        assert height < 1.8 * line, f"explorer {k}: status {height:.0f} px high (a line is {line:.0f}); " \
+                                    f"see {nb.shot('status-' + lang)}"
+    ex = nb.explorers().first
+    before = nb.view_image(ex).astype(int)
+    ex.locator(".widget-checkbox input").first.check()
+    _wait_value(nb, "s.net_actor.GetVisibility(), s.busy", lambda t: "(1, False)" in t or "(True, False)" in t)
+    nb.page.wait_for_timeout(2500)
+    after = nb.view_image(ex).astype(int)
+    red = lambda img: np.mean((img[56:, :, 0] > img[56:, :, 1] + 60) & (img[56:, :, 0] > img[56:, :, 2] + 60))
+    assert red(after) > red(before) + 0.002, f"the control net is not visible; see {nb.shot('net-' + lang)}"
     nb.page.close()

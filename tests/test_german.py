@@ -4,6 +4,7 @@ import re
 from pathlib import Path
 
 import nbformat
+import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -43,3 +44,63 @@ def test_german_messages_say_sie():
 def test_the_du_check_finds_du_forms():
     assert DU.search("Vervollständige `h(x)`; gib ein Tupel zurück") and DU.search("deine Werte")
     assert not DU.search("Vervollständigen Sie `h(x)`; geben Sie ein Tupel zurück; Ihre Werte")
+
+
+# -- the outputs of the German notebooks ----------------------------------------------------------------------------
+
+#: English words that German text never uses (short function words and the lab's English terms)
+ENGLISH = {"the", "of", "and", "is", "are", "with", "from", "your", "you", "not", "yet", "which", "this", "that",
+           "at", "on", "by", "for", "to", "points", "values", "curves", "curve", "patch", "closed", "open", "pieces",
+           "largest", "smallest", "differ", "corner", "cylinder", "tilted", "depth", "mean", "curvature",
+           "gaussian", "surface", "implemented", "expected", "got", "passed", "failed", "case", "cases", "holes",
+           "outer", "loop", "region", "triangles", "nodes", "angle", "vertices", "lines", "line", "warning",
+           "removed", "distance", "axis", "length", "end", "start", "sections", "geodesics", "area", "areas",
+           "explorer", "picture", "open", "notebook", "interactive", "view", "control", "degree", "rational"}
+#: words that are English and allowed: code identifiers and names a German text uses as they are
+ALLOWED = {"lab", "signed", "log", "signed-log", "off", "coff", "cbez333", "jupyterlab", "explorer"}
+
+
+def english_words(text):
+    """The English words of ``text`` outside code: identifiers (snake_case, CamelCase, dotted, calls) are skipped."""
+    text = re.sub(r"`[^`]*`|'[^'\n]*'|\"[^\"\n]*\"", " ", text)  # quoted code and values
+    words = []
+    for token in re.findall(r"[A-Za-zÄÖÜäöüß_.()\[\]-]+", text):
+        if "_" in token or "." in token.strip(".") or "(" in token or re.search(r"[a-z][A-Z]", token):
+            continue
+        word = token.strip(".()[]-").lower()
+        if word in ENGLISH and word not in ALLOWED:
+            words.append(word)
+    return words
+
+
+def test_the_english_check_finds_english_and_skips_code():
+    assert english_words("die Spitze: largest K at the corner") == ["largest", "at", "the", "corner"]
+    assert english_words("TrimmedSurface(BSplineSurface(...)) mit set_curvature und lab.render.show") == []
+    assert english_words("Ihr visualize_curvature auf 196 Patches; Werte −2,1 … 36,7") == []
+
+
+def _outputs(nb):
+    for i, cell in enumerate(nb.cells):
+        for out in cell.get("outputs", []):
+            if out.output_type == "stream":
+                yield i, out.text
+            elif out.output_type == "error":
+                yield i, f"{out.ename}: {out.evalue}"
+            elif "text/plain" in out.get("data", {}) and "image/png" not in out["data"]:
+                yield i, out["data"]["text/plain"]
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "solutions" / "de").glob("*.ipynb")), ids=lambda p: p.stem)
+def test_german_notebooks_print_german(path, tmp_path):
+    """Run All on a German solution (no frontend: the explorers show pictures); its printed outputs are German."""
+    from nbclient import NotebookClient
+
+    nb = nbformat.read(path, as_version=4)
+    NotebookClient(nb, timeout=900, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}},
+                   allow_errors=True).execute()
+    errors = [f"cell {i}: {text}" for i, cell in enumerate(nb.cells) for out in cell.get("outputs", [])
+              if out.output_type == "error" for text in [f"{out.ename}: {out.evalue}"]]
+    assert not errors, errors
+    english = [f"cell {i}: {sorted(set(words))} in {text.strip()[:160]!r}" for i, text in _outputs(nb)
+               for words in [english_words(text)] if words]
+    assert not english, "English in the outputs of " + path.name + ":\n" + "\n".join(english)
