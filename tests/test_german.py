@@ -57,7 +57,8 @@ ENGLISH = {"the", "of", "and", "is", "are", "with", "from", "your", "you", "not"
            "removed", "distance", "axis", "length", "end", "start", "sections", "geodesics", "area", "areas",
            "explorer", "picture", "open", "notebook", "interactive", "view", "control", "degree", "rational"}
 #: words that are English and allowed: code identifiers and names a German text uses as they are
-ALLOWED = {"lab", "signed", "log", "signed-log", "off", "coff", "cbez333", "jupyterlab", "explorer"}
+#: ("Patch" and "Start" are German words too)
+ALLOWED = {"lab", "signed", "log", "signed-log", "off", "coff", "cbez333", "jupyterlab", "explorer", "patch", "start"}
 
 
 def english_words(text):

@@ -30,6 +30,7 @@ import numpy as np
 import pyvista as pv
 
 from ..geometry import validation as _v
+from ..i18n import _, decimal
 from ..mesh.build import _faces, surface_mesh
 from ..mesh.levels import level_lines
 from ..model.patches import BezierPatches
@@ -329,8 +330,9 @@ def focal_sheets(surface, *, tol=None, resolution=None, warn=True):
             sheet = _remove_points(sheet, keep)
             if warn:
                 warnings.warn(
-                    f"focal sheet of {name}: dropped {dropped} of {len(X)} vertices where |{name}| < {tol:.3g} "
-                    f"(radius of curvature beyond {1 / tol:.3g}) and the cells touching them",
+                    decimal(_("focal sheet of {name}: dropped {dropped} of {n} vertices where |{name}| < {tol} "
+                              "(radius of curvature beyond {radius}) and the cells touching them").format(
+                        name=name, dropped=dropped, n=len(X), tol=f"{tol:.3g}", radius=f"{1 / tol:.3g}")),
                     FocalSheetWarning,
                     stacklevel=2,
                 )

@@ -10,6 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..i18n import _, decimal
 from .meshes import _triangles, as_curvature_mesh, stripe_mapping
 from .reflection_paper import area_difference
 
@@ -25,8 +26,9 @@ class StripeComparison(NamedTuple):
     unresolved: int  #: case-3 pieces the paper's recursion left at its depth limit
 
     def __repr__(self):
-        return (f"StripeComparison(exact: {self.exact.n_cells} cells, paper: {self.paper.n_cells} cells, "
-                f"colours differ on {100 * self.difference:.2f} % of the area)")
+        return "StripeComparison({})".format(decimal(_(
+            "exact: {exact} cells, paper: {paper} cells, colours differ on {percent} % of the area").format(
+                exact=self.exact.n_cells, paper=self.paper.n_cells, percent=f"{100 * self.difference:.2f}")))
 
 
 def _parts(mapped):

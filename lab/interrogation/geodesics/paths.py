@@ -52,6 +52,7 @@ import numpy as np
 
 from ...geometry import validation as _v
 from ...geometry.curvature import DegeneratePointWarning, unit_normal
+from ...i18n import _
 from ...model.surface import Surface
 from .integrator import _integrate_fan, _solve_one
 from .problem import (
@@ -198,10 +199,10 @@ class Fan:
         return np.array([p.hit_boundary for p in self.paths], dtype=bool)
 
     def __repr__(self):
-        return (
-            f"Fan({len(self)} {self.kind}s from {self.origin}, length {self.length:g}, "
-            f"{int(self.hit_boundary.sum())} hit the boundary)"
-        )
+        kinds = {"geodesic": _("geodesics"), "normal-section": _("normal sections")}
+        return "Fan({})".format(_("{n} {kind} from {origin}, length {length}, {hit} hit the boundary").format(
+            n=len(self), kind=kinds.get(self.kind, f"{self.kind}s"), origin=self.origin, length=f"{self.length:g}",
+            hit=int(self.hit_boundary.sum())))
 
 
 # --------------------------------------------------------------------------- public entry points
