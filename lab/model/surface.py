@@ -7,6 +7,8 @@ against each other and results carry the broadcast shape (plus a trailing
 coordinate axis for points and vectors).
 """
 
+from typing import ClassVar
+
 import numpy as np
 
 from ..geometry import bezier, bspline
@@ -40,7 +42,7 @@ class Surface:
     periodic = (False, False)
 
     #: Bytes per point that curvature, derivatives and meshes plan for (results and parameter copies).
-    BYTES_PER_POINT = {"curvature": 80, "derivatives": 200, "directions": 160}
+    BYTES_PER_POINT: ClassVar[dict] = {"curvature": 80, "derivatives": 200, "directions": 160}
 
     def _derivatives(self, u, v):  # pragma: no cover - abstract
         """Derivatives at checked parameters of any (equal) shape."""
@@ -396,7 +398,7 @@ class BSplineSurface(_SplineSurface):
 
     def to_bezier_patches(self):
         """One Bézier patch per non-empty knot span, as a :class:`lab.BezierPatches` (practical, section 5)."""
-        nets, w, iu, iv = self.bezier_nets()
+        nets, w, _, _ = self.bezier_nets()
         flat_w = None if w is None else w.reshape((-1,) + w.shape[2:])
         return BezierPatches(nets.reshape((-1,) + nets.shape[2:]), flat_w, grid_shape=nets.shape[:2], seams=self.seams)
 
