@@ -85,7 +85,8 @@ def _render(args, parser):
             _mesh.write_off(mesh, out)
         elif suffix == ".bez":
             if patches is None:
-                parser.error(f"{label!r} is not made of Bézier patches: no .bez export")
+                what = f"the part {label!r} is" if args.file else f"surface {label!r} is analytic,"
+                parser.error(f"{what} not made of Bézier patches: no .bez export")
             _mesh.write_cbez(patches, out)
         else:
             mesh.save(str(out))

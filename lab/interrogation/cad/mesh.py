@@ -6,7 +6,7 @@ import pyvista as pv
 from ...geometry import validation as _v
 from ...mesh.build import color_curvature
 from ..trimming import triangulate
-from .model import flip
+from .orientation import flip
 
 __all__ = ["face_arrays", "model_mesh"]
 
