@@ -18,6 +18,7 @@ from ..geometry import tensor as _tensor
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
 from ..geometry.grids import Seams
+from ..i18n import _
 from .patches import BezierPatches
 
 __all__ = ["BSplineSurface", "BezierSurface", "ParametricSurface", "Surface"]
@@ -337,8 +338,8 @@ class BezierSurface(_SplineSurface):
         return BezierPatches(self.control_points[None], w, grid_shape=(1, 1), seams=self.seams)
 
     def __repr__(self):
-        kind = "rational " if self.weights is not None else ""
-        return f"BezierSurface({kind}degree {self.degree})"
+        text = _("rational, degree {degree}") if self.weights is not None else _("degree {degree}")
+        return f"BezierSurface({text.format(degree=self.degree)})"
 
 
 class BSplineSurface(_SplineSurface):
@@ -405,7 +406,8 @@ class BSplineSurface(_SplineSurface):
     def __repr__(self):
         kind = "NURBS" if self.weights is not None else "B-spline"
         nu, nv = self.control_points.shape[:2]
-        return f"BSplineSurface({kind}, {nu}x{nv} control points, degree {self.degree})"
+        return "BSplineSurface({})".format(_("{kind}, {nu}x{nv} control points, degree {degree}").format(
+            kind=kind, nu=nu, nv=nv, degree=self.degree))
 
 
 class ParametricSurface(Surface):
