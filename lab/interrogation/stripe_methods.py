@@ -27,8 +27,8 @@ class StripeComparison(NamedTuple):
 
     def __repr__(self):
         return "StripeComparison({})".format(decimal(_(
-            "exact: {exact} cells, paper: {paper} cells, colours differ on {percent} % of the area").format(
-                exact=self.exact.n_cells, paper=self.paper.n_cells, percent=f"{100 * self.difference:.2f}")))
+            "exact: {exact} cells, paper: {paper} cells, colours differ on {percent} of the area").format(
+                exact=self.exact.n_cells, paper=self.paper.n_cells, percent=f"{100 * self.difference:.2f} %")))
 
 
 def _parts(mapped):
