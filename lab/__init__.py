@@ -72,6 +72,7 @@ _NAMES = {
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
     "lab.i18n": ("set_language", "language"),
+    "lab.teaching.unfinished": ("exercise_mode",),
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}
 
