@@ -21,6 +21,8 @@ ANSWERS = {
                           "lab.geometry.curvature.from_derivatives", "lab.geometry.analytic.curvature_from_derivatives",
                           f"{SURFACE}.fundamental_forms", f"{SURFACE}.normal", f"{SURFACE}.curvature"],
     "curvatures": ["lab.geometry.curvature.principal_curvatures", "lab.geometry.curvature.from_derivatives",
+                   "lab.geometry.curvature.shape_operator", "lab.geometry.directions.from_derivatives",
+                   "lab.geometry.directions.eigen", f"{SURFACE}._directions",
                    "lab.geometry.analytic.curvature_from_derivatives", f"{SURFACE}.curvature",
                    f"{SURFACE}.curvature_grid"],
     "derivative_nets": ["lab.geometry.bezier.derivative_net", "lab.geometry.bezier.derivatives",
@@ -50,6 +52,9 @@ ANSWERS = {
                     "lab.interrogation.geodesics.problem._second_kind_of"],
     "start_velocity": ["lab.interrogation.geodesics.problem.start_direction",
                        "lab.interrogation.geodesics.problem._direction", "lab.interrogation.geodesics.problem._frame"],
+    "principal_directions": ["lab.geometry.directions.from_derivatives", "lab.geometry.directions.eigen",
+                             "lab.geometry.curvature.shape_operator", "lab.geometry.curvature.from_derivatives",
+                             f"{SURFACE}.curvature", f"{SURFACE}._directions", "lab.interrogation.umbilics.traceless"],
     "signed_area": ["lab.interrogation.trimming.loops.signed_area",
                     "lab.interrogation.trimming.surface.TrimmedSurface.area_uv"],
 }

@@ -58,7 +58,7 @@ def isodistance_figure(fan, curves, *, title=None, size=(10.0, 4.4), grid=41):
         ax2.plot(p.uv[:, 0], p.uv[:, 1], color=PATH_COLOR, lw=0.5)
     for pieces in curves:
         for piece in pieces:
-            style = dict(color=CLOSED_COLOR, lw=1.4) if piece.closed else dict(color=OPEN_COLOR, lw=1.2, ls="--")
+            style = {"color": CLOSED_COLOR, "lw": 1.4} if piece.closed else {"color": OPEN_COLOR, "lw": 1.2, "ls": "--"}
             ax3.plot(*piece.points.T, **style)
             ax2.plot(piece.uv[:, 0], piece.uv[:, 1], **style)
     P = surface.evaluate(*fan.origin)
@@ -114,7 +114,7 @@ def trimming_figure(trimmed, triangulation=None, *, title=None, size=(6.0, 5.0),
         ax.plot(closed[:, 0], closed[:, 1], color=color, lw=1.6)
         for i in np.linspace(0, len(loop), arrows, endpoint=False).astype(int):
             a, b = closed[i], closed[i + 1]
-            ax.annotate("", xy=a + 0.6 * (b - a), xytext=a, arrowprops=dict(arrowstyle="-|>", color=color, lw=1.2))
+            ax.annotate("", xy=a + 0.6 * (b - a), xytext=a, arrowprops={"arrowstyle": "-|>", "color": color, "lw": 1.2})
     (u0, u1), (v0, v1) = trimmed.domain
     ax.set(xlim=(u0, u1), ylim=(v0, v1), xlabel="u", ylabel="v", aspect="equal")
     ax.set_title(title or "trimming loops in the parameter domain")

@@ -60,7 +60,7 @@ def nice_ticks(lo, hi, n=5):
     power = 10.0 ** math.floor(math.log10(raw))
     step = next((m * power for m in (1, 2, 2.5, 5, 10) if m * power >= raw * 0.999), 10 * power)
     first = math.ceil(lo / step - 1e-9) * step
-    ticks = first + step * np.arange(int(math.floor((hi - first) / step + 1e-9)) + 1)
+    ticks = first + step * np.arange(math.floor((hi - first) / step + 1e-9) + 1)
     ticks[np.abs(ticks) < step * 1e-9] = 0.0
     return ticks
 
@@ -183,7 +183,7 @@ class Legend:
 
 
 def _css(rgb):
-    r, g, b = (int(round(255 * float(x))) for x in rgb)
+    r, g, b = (round(255 * float(x)) for x in rgb)
     return f"rgb({r},{g},{b})"
 
 

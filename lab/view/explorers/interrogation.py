@@ -2,6 +2,7 @@
 
 import html
 import warnings
+from typing import ClassVar
 
 import ipywidgets as W
 import numpy as np
@@ -29,7 +30,7 @@ class FocalExplorer(Explorer):
     """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (seeds/002, section 4)."""
 
     title = N_("focal surface explorer")
-    FUNCTIONS = {N_("H  mean"): "mean", N_("K  Gaussian"): "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1",
+    FUNCTIONS: ClassVar[dict] = {N_("H  mean"): "mean", N_("K  Gaussian"): "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1",
                  "κ2": "k2"}
 
     def __init__(self, surface, *, scale=None, resolution=48, window_size=(800, 500), live=None, backend=None):
@@ -91,7 +92,7 @@ class ReflectionExplorer(Explorer):
 
     title = N_("reflection explorer")
     camera_direction = VIEW_DIRECTION  # reflections depend on the eye: look from the one they are computed for
-    KINDS = {N_("stripe box mapping"): "stripes", N_("reflection lines (light lines)"): "lines",
+    KINDS: ClassVar[dict] = {N_("stripe box mapping"): "stripes", N_("reflection lines (light lines)"): "lines",
              N_("isophotes"): "isophotes"}
 
     def __init__(self, surface, *, resolution=64, window_size=(800, 500), live=None, backend=None):
@@ -198,7 +199,7 @@ class GeodesicExplorer(Explorer):
     """
 
     title = N_("geodesic explorer")
-    KINDS = {N_("geodesics"): "geodesic", N_("normal sections"): "normal-section"}
+    KINDS: ClassVar[dict] = {N_("geodesics"): "geodesic", N_("normal sections"): "normal-section"}
     # paths integrated per step: progress, and a newer request cancels between steps.  The vectorised integrator
     # costs about the same per call whatever the number of paths, so steps are large (2 x 20 paths: +75%).
     CHUNK = 40

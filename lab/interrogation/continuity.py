@@ -1,0 +1,416 @@
+r"""How smooth is it?  G0, G1 and G2 across knot lines, patch borders and face edges (``lab.continuity``).
+
+The practical's purpose (``seeds/001``): "Die Krümmungsvisualisierung erlaubt eine erste grobe Beurteilung
+der Stetigkeit der zweiten Ableitung von B."  Here that judgement is a number per edge, as CAD systems
+report it (OpenCASCADE's ``LocalAnalysis_SurfaceContinuity``, Rhino's EdgeContinuity/GCon):
+
+* **G0** – ``g0``: the largest gap :math:`|\mathbf b_A - \mathbf b_B|` between the two sides (length);
+* **G1** – ``g1``: the largest angle between the two sides' unit normals, in degrees (folded to at most
+  90°, as OpenCASCADE does, so two sides with opposite orientations are compared as one surface);
+* **G2** – ``g2``: the largest jump of the normal curvature in the cross-boundary direction
+  :math:`\mathbf c = \mathbf N\times\mathbf t` (t the edge's tangent) on each side,
+  :math:`|\kappa_n^A(\mathbf c_A) - \kappa_n^B(\mathbf c_B)|` (1/length), with
+  :math:`\kappa_n(\mathbf c) = \mathrm{II}(\mathbf c)/\mathrm I(\mathbf c)`.
+
+Every value comes from exact one-sided limits: each side is a Bézier patch (a B-spline surface's knot
+spans, the patches of a collection) evaluated on its own border, so nothing is estimated by differences.
+
+An edge *achieves* G0 when ``g0 <= tol_g0``, G1 when also ``g1 <= tol_g1`` and G2 when also
+``g2 <= tol_g2 * (max |κn| on the edge + 1/size)``; otherwise ``"none"``.  The default tolerances
+(:data:`TOLERANCES`): ``tol_g0 = 1e-6`` of the model's size (bounding-box diagonal), ``tol_g1 = 0.05``
+degrees, ``tol_g2 = 0.01`` (1 %, OpenCASCADE's default ``Percent``).
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..geometry import bezier
+from ..geometry import validation as _v
+from ..geometry.derivatives import Derivatives, from_homogeneous
+from ..model.patches import BezierPatches
+from ..model.surface import BSplineSurface
+
+__all__ = ["LEVELS", "TOLERANCES", "Continuity", "Edge", "continuity", "measures"]
+
+#: What an edge can achieve, worst first.
+LEVELS = ("none", "G0", "G1", "G2")
+#: Default tolerances: g0 relative to the model's size, g1 in degrees, g2 relative (see the module docstring).
+TOLERANCES = {"g0": 1e-6, "g1": 0.05, "g2": 0.01}
+
+
+@dataclass(frozen=True, eq=False)
+class Edge:
+    """One edge between two pieces and how continuous the surface is across it.
+
+    Attributes
+    ----------
+    kind : str
+        ``"knot line"``, ``"seam"`` (where a periodic surface closes), ``"patch border"`` or ``"face edge"``.
+    direction : str or None
+        ``"u"`` for a line u = value, ``"v"`` for v = value (knot lines, seams, borders of a grid of patches).
+    value : float or None
+        The knot (knot lines, seams).
+    faces : tuple or None
+        The two pieces it joins: patch indices (patch borders) or face indices (face edges).
+    multiplicity : int or None
+        The knot's multiplicity (knot lines): the spline is C^(degree - multiplicity) there.
+    g0, g1, g2 : float
+        Largest gap (length), normal angle (degrees) and cross-boundary normal curvature jump (1/length).
+    achieved : str
+        ``"G2"``, ``"G1"``, ``"G0"`` or ``"none"``.
+    worst : (3,) ndarray
+        Where the measure that decides :attr:`achieved` is largest (for ``"G2"``: where g2 is).
+    points : (k, 3) ndarray
+        The samples along the edge (side A), with ``gap``, ``angle`` and ``jump`` (k,) at each.
+    """
+
+    kind: str
+    direction: object
+    value: object
+    faces: object
+    multiplicity: object
+    g0: float
+    g1: float
+    g2: float
+    achieved: str
+    worst: np.ndarray
+    points: np.ndarray = field(repr=False)
+    gap: np.ndarray = field(repr=False)
+    angle: np.ndarray = field(repr=False)
+    jump: np.ndarray = field(repr=False)
+
+    def __repr__(self):
+        where = f"{self.direction} = {self.value:g}" if self.value is not None else f"faces {self.faces}"
+        return (f"Edge({self.kind} {where}: {self.achieved}, g0={self.g0:.3g}, g1={self.g1:.3g} deg, "
+                f"g2={self.g2:.3g})")
+
+
+@dataclass(frozen=True, eq=False)
+class Continuity:
+    """The continuity report of a surface: its :attr:`edges`, the :attr:`tolerances` used, and summaries."""
+
+    edges: list
+    tolerances: dict
+    size: float
+
+    @property
+    def achieved(self):
+        """The least any edge achieves (``"G2"`` when there are no edges)."""
+        return min((e.achieved for e in self.edges), key=LEVELS.index, default="G2")
+
+    @property
+    def worst(self):
+        """The edge that achieves least (the largest relevant measure among those), or None."""
+        if not self.edges:
+            return None
+        return min(self.edges, key=lambda e: (LEVELS.index(e.achieved), -_deciding(e, self.tolerances, self.size)))
+
+    def counts(self):
+        """``{level: number of edges}`` for the four levels."""
+        return {level: sum(e.achieved == level for e in self.edges) for level in LEVELS[::-1]}
+
+    def table(self, max_rows=20):
+        """A plain-text table: one row per edge (the ``max_rows`` worst when there are more), the tolerances."""
+        tol = self.tolerances
+        rows = sorted(self.edges, key=lambda e: (LEVELS.index(e.achieved), -_deciding(e, tol, self.size)))
+        header = f"{'edge':<26} {'G0 gap':>10} {'G1 angle [deg]':>15} {'G2 jump [1/L]':>14} {'achieved':>9}"
+        lines = [header, "-" * len(header)]
+        for e in rows[:max_rows]:
+            if e.value is not None:
+                name = f"{e.kind} {e.direction} = {e.value:.6g}"
+            else:
+                name = f"{e.kind} {e.faces[0]}|{e.faces[1]}"
+            lines.append(f"{name:<26} {e.g0:10.3g} {e.g1:15.3g} {e.g2:14.3g} {e.achieved:>9}")
+        if len(rows) > max_rows:
+            lines.append(f"… {len(rows) - max_rows} more edges")
+        counts = ", ".join(f"{k}: {n}" for k, n in self.counts().items())
+        lines.append(f"{len(self.edges)} edges ({counts}); overall {self.achieved}")
+        lines.append(f"tolerances: G0 gap <= {tol['g0'] * self.size:.3g} ({tol['g0']:g} x size {self.size:.4g}), "
+                     f"G1 angle <= {tol['g1']:g} deg, G2 jump <= {tol['g2']:g} x (max |kn| + 1/size)")
+        return "\n".join(lines)
+
+    def __repr__(self):
+        return f"Continuity({len(self.edges)} edges, achieved {self.achieved}: {self.counts()})"
+
+
+def _deciding(edge, tol, size):
+    """The measure that decides an edge's level, relative to its tolerance (for sorting)."""
+    if edge.achieved == "none":
+        return edge.g0 / (tol["g0"] * size)
+    if edge.achieved == "G0":
+        return edge.g1 / tol["g1"]
+    return edge.g2
+
+
+def _dot(a, b):
+    return np.einsum("...i,...i->...", a, b)
+
+
+def _normal_curvature(d, N, c):
+    """κn in the tangent direction ``c`` (3-vectors) from derivatives ``d``: II(w)/I(w), w the coordinates of c."""
+    E, F, G = _dot(d.bu, d.bu), _dot(d.bu, d.bv), _dot(d.bv, d.bv)
+    e, f, g = _dot(N, d.buu), _dot(N, d.buv), _dot(N, d.bvv)
+    a, b = _dot(c, d.bu), _dot(c, d.bv)
+    det = E * G - F * F
+    w1, w2 = (G * a - F * b) / det, (E * b - F * a) / det
+    return (e * w1 * w1 + 2 * f * w1 * w2 + g * w2 * w2) / (E * w1 * w1 + 2 * F * w1 * w2 + G * w2 * w2)
+
+
+def measures(dA, dB, tA, tB):
+    """Gap, normal angle (degrees) and cross-boundary normal curvature jump at paired samples of two sides.
+
+    Parameters
+    ----------
+    dA, dB : Derivatives
+        One-sided derivatives of the two sides at the same points of the edge, fields ``(k, 3)``.
+    tA, tB : (k, 3) ndarray
+        The edge's tangent on each side (any length, the same sense or not).
+
+    Returns
+    -------
+    gap, angle, jump, kn : (k,) ndarrays
+        ``kn`` is the larger |κn| of the two sides (for the relative G2 tolerance).  NaN where a side has
+        no normal (a degenerate sample).
+    """
+    with np.errstate(invalid="ignore", divide="ignore"):
+        gap = np.linalg.norm(dA.b - dB.b, axis=-1)
+        NA, NB = np.cross(dA.bu, dA.bv), np.cross(dB.bu, dB.bv)
+        NA = NA / np.linalg.norm(NA, axis=-1, keepdims=True)
+        NB = NB / np.linalg.norm(NB, axis=-1, keepdims=True)
+        cos = _dot(NA, NB)
+        angle = np.degrees(np.arctan2(np.linalg.norm(np.cross(NA, NB), axis=-1), np.abs(cos)))
+        flip = np.where(cos < 0, -1.0, 1.0)  # opposite orientations: compare as one surface
+        cA, cB = np.cross(NA, tA), np.cross(NB, tB)
+        kA = _normal_curvature(dA, NA, cA)
+        kB = flip * _normal_curvature(dB, NB, cB)
+        jump = np.abs(kA - kB)
+        kn = np.maximum(np.abs(kA), np.abs(kB))
+    return gap, angle, jump, kn
+
+
+def _levels(g0, g1, g2, kn, tol, size):
+    """The level achieved for arrays of per-edge maxima."""
+    out = np.full(np.shape(g0), "G2", dtype=object)
+    out[~(g2 <= tol["g2"] * (kn + 1 / size))] = "G1"
+    out[~(g1 <= tol["g1"])] = "G0"
+    out[~(g0 <= tol["g0"] * size)] = "none"
+    return out
+
+
+def _edges(meta, dA, dB, tA, tB, tol, size):
+    """Edges from paired samples: fields of ``dA, dB`` and ``tA, tB`` have shape ``(edges, samples, 3)``;
+    ``meta`` holds per edge ``(kind, direction, value, faces, multiplicity)``."""
+    flat = lambda x: x.reshape(-1, 3)
+    gap, angle, jump, kn = measures(dA.map(flat), dB.map(flat), flat(tA), flat(tB))
+    shape = tA.shape[:2]
+    gap, angle, jump, kn = (x.reshape(shape) for x in (gap, angle, jump, kn))
+    ok = np.isfinite(angle) & np.isfinite(jump)
+    with np.errstate(invalid="ignore"):
+        g0 = np.max(gap, axis=1)
+        g1 = np.max(np.where(ok, angle, 0.0), axis=1)
+        g2 = np.max(np.where(ok, jump, 0.0), axis=1)
+        knmax = np.max(np.where(ok, kn, 0.0), axis=1)
+    levels = _levels(g0, g1, g2, knmax, tol, size)
+    deciding = np.where((levels == "none")[:, None], gap, np.where((levels == "G0")[:, None], angle, jump))
+    deciding = np.where(ok | (levels == "none")[:, None], deciding, -np.inf)
+    worst = np.argmax(deciding, axis=1)
+    points = dA.b
+    return [Edge(*meta[i], float(g0[i]), float(g1[i]), float(g2[i]), levels[i], points[i, worst[i]].copy(),
+                 points[i], gap[i], angle[i], jump[i]) for i in range(len(meta))]
+
+
+def _tolerances(tol_g0, tol_g1, tol_g2):
+    tol = dict(TOLERANCES)
+    for name, x in (("g0", tol_g0), ("g1", tol_g1), ("g2", tol_g2)):
+        if x is not None:
+            try:
+                x = float(x)
+            except (TypeError, ValueError):
+                raise TypeError(f"tol_{name} must be a number; got {type(x).__name__}") from None
+            if not (np.isfinite(x) and x >= 0):
+                raise ValueError(f"tol_{name} must be a finite number >= 0; got {x}")
+            tol[name] = x
+    return tol
+
+
+def _size(points):
+    p = np.asarray(points).reshape(-1, 3)
+    return float(np.linalg.norm(p.max(axis=0) - p.min(axis=0))) or 1.0
+
+
+def _bernstein_derivatives(n, t):
+    """Bernstein bases of degree n at ``t`` and their first and second derivatives, each ``(len(t), n+1)``."""
+    B = bezier.bernstein(n, t)
+    if n == 0:
+        return B, np.zeros_like(B), np.zeros_like(B)
+    lower = bezier.bernstein(n - 1, t)
+    d1 = n * (np.pad(lower, ((0, 0), (1, 0))) - np.pad(lower, ((0, 0), (0, 1))))
+    if n == 1:
+        return B, d1, np.zeros_like(B)
+    low2 = bezier.bernstein(n - 2, t)
+    d2 = n * (n - 1) * (np.pad(low2, ((0, 0), (2, 0))) - 2 * np.pad(low2, ((0, 0), (1, 1)))
+                        + np.pad(low2, ((0, 0), (0, 2))))
+    return B, d1, d2
+
+
+def _border(nets, w, axis, end, t):
+    """Exact one-sided derivatives of patches ``nets`` (..., p+1, q+1, 3) on their border ``axis`` (0: u = end,
+    1: v = end) at ``t``: fields ``(...) + t.shape + (3,)``.
+
+    On a border the surface and its cross derivatives are Bézier curves: the first three rows of control
+    points by forward differences (practical, section 3), evaluated with the Bernstein basis and its
+    derivatives along the border; rational patches in homogeneous coordinates, then the quotient rule.
+    """
+    Pw = bezier.homogeneous(nets, w)
+    if axis == 1:  # make the border a row: the cross direction first
+        Pw = np.swapaxes(Pw, -3, -2)
+    m, n = Pw.shape[-3] - 1, Pw.shape[-2] - 1
+    rows = Pw[..., ::-1, :, :] if end == 1.0 else Pw  # rows[0] on the border, rows[1], rows[2] inwards
+    sign = -1.0 if end == 1.0 else 1.0  # differences taken inwards: d/du at u = 1 has the opposite sign
+    R0 = rows[..., 0, :, :]
+    R1 = sign * m * (rows[..., 1, :, :] - rows[..., 0, :, :])
+    R2 = m * (m - 1) * (rows[..., 2, :, :] - 2 * rows[..., 1, :, :] + rows[..., 0, :, :]) if m >= 2 else 0 * R0
+    B, B1, B2 = _bernstein_derivatives(n, t)
+    along = np.matmul  # (k, n+1) @ (..., n+1, d) -> (..., k, d)
+    b, bc, bcc = along(B, R0), along(B, R1), along(B, R2)
+    bt, bct, btt = along(B1, R0), along(B1, R1), along(B2, R0)
+    fields = (b, bc, bt, bcc, bct, btt) if axis == 0 else (b, bt, bc, btt, bct, bcc)
+    d = Derivatives(*fields)
+    return d if w is None else from_homogeneous(d)
+
+
+def _grid_edges(nets, w, seams, tol, size, samples, kind, knot_lines=None):
+    """Edges of a grid of patches ``nets`` (R, C, ...): between rows (direction u) and columns (v).
+
+    All borders of a direction are evaluated together; a B-spline surface (``knot_lines`` given) gets one
+    edge per knot line, a grid of patches one per pair of neighbours."""
+    R, C = nets.shape[:2]
+    t = np.linspace(0.0, 1.0, samples)
+    edges = []
+    for axis in (0, 1):
+        n_lines = R if axis == 0 else C
+        periodic = bool(seams.periodic[axis]) if seams is not None else False
+        a = np.arange(n_lines - 1 + (periodic and n_lines > 1))
+        b = (a + 1) % n_lines
+        if len(a) == 0:
+            continue
+        take = (lambda x, i: x[i]) if axis == 0 else (lambda x, i: np.swapaxes(x[:, i], 0, 1))
+        A, B = take(nets, a), take(nets, b)  # (lines, others, p+1, q+1, 3)
+        wA, wB = (None, None) if w is None else (take(w, a), take(w, b))
+        dA, dB = _border(A, wA, axis, 1.0, t), _border(B, wB, axis, 0.0, t)  # (lines, others, samples, 3)
+        tA, tB = (dA.bv, dB.bv) if axis == 0 else (dA.bu, dB.bu)
+        direction = "uv"[axis]
+        seam = b < a
+        if knot_lines is not None:  # one edge per knot line: its samples over all the spans along it
+            lines = knot_lines[axis]
+            meta = [("seam" if seam[i] else kind, direction, *lines[-1 if seam[i] else i][:1], None,
+                     lines[-1 if seam[i] else i][1]) for i in range(len(a))]
+            merge = lambda x: x.reshape(x.shape[0], -1, 3)
+        else:  # one edge per pair of neighbouring patches
+            others = A.shape[1]
+            flat = [(a[i] * C + j, b[i] * C + j) if axis == 0 else (j * C + a[i], j * C + b[i])
+                    for i in range(len(a)) for j in range(others)]
+            meta = [("seam" if seam[i] else kind, direction, None, flat[i * others + j], None)
+                    for i in range(len(a)) for j in range(others)]
+            merge = lambda x: x.reshape(-1, x.shape[-2], 3)
+        edges += _edges(meta, dA.map(merge), dB.map(merge), merge(tA), merge(tB), tol, size)
+    return edges
+
+
+def _knot_lines(knots, degree, intervals):
+    """``(value, multiplicity)`` of the interior knot lines between consecutive spans, and the seam's (the end)."""
+    out = []
+    for (_, hi) in intervals[:-1]:
+        out.append((float(hi), int(np.count_nonzero(knots == hi))))
+    end = intervals[-1][1]
+    out.append((float(end), int(np.count_nonzero(knots == end))))  # used by a periodic direction's seam
+    return out
+
+
+def _matched_edges(patches, tol, size, samples):
+    """Shared borders of patches without a grid: borders whose end points coincide (within the G0 tolerance)."""
+    P, w = patches.control_points, patches.weights
+    t = np.linspace(0.0, 1.0, samples)
+    eps = max(tol["g0"] * size, 1e-12 * size)
+    borders = {}
+    for k in range(len(P)):
+        for axis in (0, 1):
+            for end in (0.0, 1.0):
+                net = P[k]
+                if axis == 0:
+                    row = net[-1] if end else net[0]
+                else:
+                    row = net[:, -1] if end else net[:, 0]
+                a, b = (tuple(np.round(x / eps).astype(np.int64)) for x in (row[0], row[-1]))
+                borders.setdefault(frozenset((a, b)), []).append((k, axis, end, a <= b))
+    pairs = [found for found in borders.values() if len(found) == 2 and found[0][0] != found[1][0]]
+    if not pairs:
+        return []
+    sides = []
+    for side in (0, 1):
+        derivs, tangents = [], []
+        for found in pairs:
+            k, axis, end, forward = found[side]
+            tt = t if side == 0 or forward == found[0][3] else 1.0 - t
+            d = _border(P[k], None if w is None else w[k], axis, end, tt)
+            derivs.append(d)
+            tangents.append(d.bv if axis == 0 else d.bu)
+        stacked = type(derivs[0])(*(np.stack([getattr(d, f) for d in derivs]) for f in derivs[0]._fields))
+        sides.append((stacked, np.stack(tangents)))
+    meta = [("patch border", None, None, (found[0][0], found[1][0]), None) for found in pairs]
+    return _edges(meta, sides[0][0], sides[1][0], sides[0][1], sides[1][1], tol, size)
+
+
+def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None):
+    """G0/G1/G2 across the interior knot lines of a B-spline surface or the shared borders of Bézier patches.
+
+    Parameters
+    ----------
+    obj : BSplineSurface or BezierPatches
+        A B-spline/NURBS surface (its knot lines, and the seam of a periodic direction), or a collection
+        of patches (borders of neighbours in its grid, or, without a grid, borders whose ends coincide).
+    samples : int
+        Samples per knot span (or per border) along each edge.
+    tol_g0, tol_g1, tol_g2 : float, optional
+        Tolerances (see the module docstring; defaults :data:`TOLERANCES`).
+
+    Returns
+    -------
+    Continuity
+        ``.edges`` (each an :class:`Edge`), ``.achieved``, ``.worst``, ``.table()``.
+
+    Examples
+    --------
+    >>> import lab
+    >>> lab.continuity(lab.surfaces.practical()).achieved      # a bicubic B-spline with simple knots is C2
+    'G2'
+    """
+    samples = _v.as_positive_int(samples, "samples", minimum=2)
+    tol = _tolerances(tol_g0, tol_g1, tol_g2)
+    if isinstance(obj, BSplineSurface):
+        nets, w, iu, iv = obj.bezier_nets()
+        size = _size(obj.control_points)
+        lines = (_knot_lines(obj.knots_u, obj.degree[0], iu), _knot_lines(obj.knots_v, obj.degree[1], iv))
+        edges = _grid_edges(nets, w, obj.seams, tol, size, samples, "knot line", lines)
+    elif isinstance(obj, BezierPatches):
+        size = _size(obj.control_points)
+        if obj.grid_shape is not None:
+            R, C = obj.grid_shape
+            P = obj.control_points.reshape((R, C) + obj.control_points.shape[1:])
+            w = None if obj.weights is None else obj.weights.reshape((R, C) + obj.weights.shape[1:])
+            edges = _grid_edges(P, w, obj.seams, tol, size, samples, "patch border")
+        else:
+            edges = _matched_edges(obj, tol, size, samples)
+    else:
+        model = _as_model(obj)
+        if model is None:
+            raise TypeError(f"continuity needs a lab.BSplineSurface, a lab.BezierPatches or a lab.Model; "
+                            f"got {type(obj).__name__}")
+        raise TypeError("continuity of a lab.Model (face edges) is not available yet; pass a face's surface")
+    return Continuity(edges, tol, size)
+
+
+def _as_model(obj):
+    """``obj`` if it is a lab.Model (a model with faces), else None."""
+    return obj if hasattr(obj, "faces") and type(obj).__name__ == "Model" else None
