@@ -173,3 +173,56 @@ def test_import_lab_does_not_import_opencascade():
     code = "import sys, lab\nlab.read, lab.Model\nprint('OCP' in sys.modules)\n"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+@needs_data
+def test_the_mesh_of_a_model_has_each_faces_exact_curvature_and_id(models):
+    model = models["occ/hammer.brep"]
+    mesh = model.to_mesh(8, 8, curvature_mode="mean", color_map="symmetric")
+    face_id = np.asarray(mesh.point_data["face"])
+    assert set(face_id) == {f.index for f in model.faces}
+    assert set(np.asarray(mesh.cell_data["face"])) == set(face_id)
+    for face in (model.faces[0], next(f for f in model.faces if f.reversed), next(f for f in model.faces if f.trim)):
+        mine = face_id == face.index
+        uv = np.asarray(mesh.point_data["uv"])[mine]
+        c = face.curvature(uv[:, 0], uv[:, 1])
+        np.testing.assert_allclose(np.asarray(mesh.point_data["H"])[mine], c.H, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(np.asarray(mesh.point_data["k1"])[mine], c.k1, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(np.asarray(mesh.points)[mine], face.surface.evaluate(uv[:, 0], uv[:, 1]),
+                                   rtol=0, atol=1e-9)
+        N = np.asarray(mesh.point_data["N"])[mine]
+        np.testing.assert_allclose(N, face.normal(uv[:, 0], uv[:, 1]), atol=1e-12)
+        if face.trim is not None:
+            assert np.all(face.trim.contains(uv[:, 0], uv[:, 1]))
+    # the triangles face the way of the face's normal
+    cells = mesh.regular_faces
+    P = np.asarray(mesh.points)
+    n = np.cross(P[cells[:, 1]] - P[cells[:, 0]], P[cells[:, 2]] - P[cells[:, 0]])
+    big = np.linalg.norm(n, axis=1) > 1e-8 * np.linalg.norm(n, axis=1).max()
+    agree = np.einsum("ij,ij->i", n, np.asarray(mesh.point_data["N"])[cells].mean(axis=1)) > 0
+    assert agree[big].mean() > 0.99
+    # one colour range over the whole model
+    assert "RGB" in mesh.point_data and mesh.point_data["RGB"].dtype == np.uint8
+
+
+@needs_data
+def test_named_models_and_a_missing_data_folder(monkeypatch, tmp_path):
+    assert lab.models.wing().kinds() == {"BSplineSurface": 4}
+    assert lab.models.impeller_path().name == "impeller.igs"
+    monkeypatch.setenv("LAB_OCC_DATA", str(tmp_path))
+    with pytest.raises(FileNotFoundError, match="occ/wing.brep: OpenCASCADE's sample part is missing; install"):
+        lab.models.wing()
+
+
+@needs_data
+def test_render_a_part_from_a_file(tmp_path):
+    from lab import cli
+
+    out = tmp_path / "wing.vtp"
+    assert cli.main(["render", "--file", str(DATA / "occ" / "wing.brep"), "--depth", "0", "--quiet", "-o", str(out)]) == 0
+    import pyvista as pv
+
+    mesh = pv.read(out)
+    assert mesh.n_points > 0 and {"K", "H", "face", "RGB"} <= set(mesh.point_data.keys())
+    with pytest.raises(SystemExit):
+        cli.main(["render", "--file", str(tmp_path / "none.step"), "--quiet", "-o", str(tmp_path / "x.png")])
