@@ -226,3 +226,69 @@ def test_render_a_part_from_a_file(tmp_path):
     assert mesh.n_points > 0 and {"K", "H", "face", "RGB"} <= set(mesh.point_data.keys())
     with pytest.raises(SystemExit):
         cli.main(["render", "--file", str(tmp_path / "none.step"), "--quiet", "-o", str(tmp_path / "x.png")])
+
+
+def test_the_teapot_has_32_patches_a_closed_bottom_and_degenerate_points():
+    teapot = lab.models.teapot()
+    assert len(teapot.faces) == 32 and teapot.problems == []
+    bottom = teapot.faces[28:]
+    body = [f.surface.control_points for f in teapot.faces[8:12]]
+    ring = np.concatenate([f.surface.control_points[-1] for f in bottom])
+    # the bottom's outer row is the body's lowest row (the pot is closed), its first row the centre
+    lowest = np.concatenate([P.reshape(-1, 3) for P in body])
+    assert all(np.min(np.linalg.norm(lowest - p, axis=1)) == 0 for p in ring)
+    assert all(np.all(f.surface.control_points[0] == f.surface.control_points[0, :1]) for f in bottom)
+    with pytest.warns(lab.DegeneratePointWarning):
+        c = bottom[0].curvature(0.0, 0.5)
+    assert c.degenerate and np.isfinite(c.K)
+
+
+def test_geomview_bezier_files(tmp_path):
+    P = np.random.default_rng(1).normal(size=(3, 2, 3))  # degree (2, 1)
+    rows = [" ".join(map(str, P[i, j])) for j in range(2) for i in range(3)]  # u varies fastest
+    (tmp_path / "a.bez").write_text("BEZ213\n" + "\n".join(rows) + "\nCBEZ213\n" + "\n".join(rows) + "\n" +
+                                    " ".join(["1 0 0 1"] * 4) + "\n")
+    model = lab.read(tmp_path / "a.bez")
+    assert [f.surface.degree for f in model.faces] == [(2, 1), (2, 1)]
+    np.testing.assert_array_equal(model.faces[1].surface.control_points, P)
+    w = np.array([[1.0, 2.0], [0.5, 1.0]])
+    Pw = np.concatenate([P[:2] * w[..., None], w[..., None]], axis=-1)
+    rows = [" ".join(map(str, Pw[i, j])) for j in range(2) for i in range(2)]
+    (tmp_path / "r.bez").write_text("BEZ114\n" + "\n".join(rows) + "\n")
+    face = lab.read(tmp_path / "r.bez").faces[0]
+    np.testing.assert_allclose(face.surface.control_points, P[:2])
+    np.testing.assert_array_equal(face.surface.weights, w)
+    torus_path = Path("/usr/share/geomview/geom/torus.bez")
+    if torus_path.exists():
+        torus = lab.read(torus_path)  # geomview's exact torus has control points at infinity (w = 0): reported, not dropped
+        assert torus.faces == [] and [p.index for p in torus.problems] == [0, 1, 2, 3]  # noqa: E501
+    (tmp_path / "cut.bez").write_text("BBP\n1 2 3\n")
+    with pytest.raises(ValueError, match="cut.bez: patch 0 is cut short: 3 of its 48 numbers"):
+        lab.read(tmp_path / "cut.bez")
+    (tmp_path / "x.bez").write_text("MESH\n")
+    with pytest.raises(ValueError, match="x.bez: expected a geomview Bézier header"):
+        lab.read(tmp_path / "x.bez")
+
+
+@pytest.mark.parametrize("suffix", [".brep", ".step"])
+def test_write_and_read_back_gives_the_same_surfaces(tmp_path, suffix):
+    teapot = lab.models.teapot()
+    path = lab.write(teapot, tmp_path / f"teapot{suffix}")
+    back = lab.read(path)
+    assert len(back.faces) == 32 and back.problems == []
+    u, v = np.meshgrid(np.linspace(0.1, 0.9, 4), np.linspace(0.1, 0.9, 4), indexing="ij")
+    for a, b in zip(teapot.faces, back.faces):
+        np.testing.assert_allclose(b.surface.evaluate(u, v), a.surface.evaluate(u, v), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(b.curvature(u, v).H, a.curvature(u, v).H, rtol=1e-9, atol=1e-12)
+    s = lab.surfaces.practical()
+    back = lab.read(lab.write(s, tmp_path / f"practical{suffix}")).faces[0].surface
+    # BREP keeps every digit; STEP writes 13 significant digits
+    np.testing.assert_allclose(back.control_points, s.control_points, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(back.knots_u, s.knots_u, rtol=1e-12, atol=1e-12)
+
+
+def test_write_refuses_what_it_cannot_write(tmp_path):
+    with pytest.raises(ValueError, match=r"x.obj: cannot write '.obj'; expected one of .brep, .step"):
+        lab.write(lab.surfaces.practical(), tmp_path / "x.obj")
+    with pytest.raises(TypeError, match="write needs a lab.Model, a lab.BezierSurface or a lab.BSplineSurface"):
+        lab.write("surface", tmp_path / "x.brep")

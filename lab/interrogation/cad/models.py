@@ -4,6 +4,7 @@
   ``/usr/share/opencascade/data`` or the folder ``LAB_OCC_DATA`` names: :func:`wing`, :func:`shell`,
   :func:`hammer`, :func:`terrain`, :func:`linkrods`, :func:`bottle`, :func:`sample`.
 - The impeller that ``pyiges`` ships (MIT): :func:`impeller`.
+- Newell's teapot (public domain data), shipped with the lab: :func:`teapot`.
 """
 
 import os
@@ -11,7 +12,7 @@ from pathlib import Path
 
 from ...i18n import _
 
-__all__ = ["bottle", "hammer", "impeller", "impeller_path", "linkrods", "occ_data", "sample", "shell", "terrain",
+__all__ = ["bottle", "hammer", "impeller", "impeller_path", "linkrods", "occ_data", "sample", "shell", "teapot", "terrain",
            "wing"]
 
 
@@ -76,3 +77,15 @@ def impeller():
     from . import read
 
     return read(impeller_path())
+
+
+def teapot():
+    """Newell's teapot as 32 bicubic Bézier faces with the bottom (``lab/interrogation/cad/data/teapot.bbp``).
+
+    Patches 0-27 are the original's (as Debian's geomview ships them), 28-31 the bottom of Newell's 32-patch
+    set; the lid's top and the bottom's centre are collapsed patch edges, so their points are degenerate
+    (flagged, with the limit values; see :meth:`lab.Surface.curvature`).
+    """
+    from .geomview import read_geomview
+
+    return read_geomview(Path(__file__).parent / "data" / "teapot.bbp", name="teapot")
