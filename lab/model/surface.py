@@ -19,6 +19,7 @@ from ..geometry import tensor as _tensor
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
 from ..geometry.grids import Seams
+from ..i18n import _
 from .patches import BezierPatches
 
 __all__ = ["BSplineSurface", "BezierSurface", "ParametricSurface", "Surface"]
@@ -215,11 +216,22 @@ class Surface:
         curvature : Curvature
             As :meth:`curvature_grid`, degenerate points filled with their limits.
         """
+        return self._sample_mesh(u, v, True, memory_limit)
+
+    def sample_points(self, u, v, *, memory_limit=None):
+        """Points, unit normals and curvature at the points ``(u, v)`` in one pass (a triangle mesh's vertices).
+
+        As :meth:`sample_grid` with ``u``, ``v`` broadcast against each other; fields of shape
+        ``broadcast(u, v).shape`` (plus ``(3,)`` for ``b`` and ``N``).
+        """
+        return self._sample_mesh(u, v, False, memory_limit)
+
+    def _sample_mesh(self, u, v, grid, memory_limit):
         def fields(d):
             N, _ = _curv.unit_normal(d.bu, d.bv)
             return (d.b, N, *_curv.from_derivatives(d))
 
-        u, v, (b, N, *curv) = self.sample(fields, u, v, grid=True, memory_limit=memory_limit,
+        u, v, (b, N, *curv) = self.sample(fields, u, v, grid=grid, memory_limit=memory_limit,
                                           bytes_per_point=self.BYTES_PER_POINT["curvature"] + 48)
         curv = _curv.with_limits(_curv.Curvature(*curv), u, v, self.centre,
                                  lambda index, uu, vv: self._derivatives(uu, vv))
@@ -329,8 +341,8 @@ class BezierSurface(_SplineSurface):
         return BezierPatches(self.control_points[None], w, grid_shape=(1, 1), seams=self.seams)
 
     def __repr__(self):
-        kind = "rational " if self.weights is not None else ""
-        return f"BezierSurface({kind}degree {self.degree})"
+        text = _("rational, degree {degree}") if self.weights is not None else _("degree {degree}")
+        return f"BezierSurface({text.format(degree=self.degree)})"
 
 
 class BSplineSurface(_SplineSurface):
@@ -397,7 +409,8 @@ class BSplineSurface(_SplineSurface):
     def __repr__(self):
         kind = "NURBS" if self.weights is not None else "B-spline"
         nu, nv = self.control_points.shape[:2]
-        return f"BSplineSurface({kind}, {nu}x{nv} control points, degree {self.degree})"
+        return "BSplineSurface({})".format(_("{kind}, {nu}x{nv} control points, degree {degree}").format(
+            kind=kind, nu=nu, nv=nv, degree=self.degree))
 
 
 class ParametricSurface(Surface):

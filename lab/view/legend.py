@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry import colormaps
-from ..i18n import N_, _
+from ..i18n import N_, _, decimal
 
 __all__ = ["H_STOPS", "Legend", "format_values", "legend", "map_range", "measure_title", "nice_ticks"]
 
@@ -48,7 +48,8 @@ def measure_title(measure, *, long=True):
 
 
 def _minus(text):
-    return text.replace("-", "−")
+    """A label as people read it: a real minus sign, the decimal comma in German."""
+    return decimal(text.replace("-", "−"))
 
 
 def nice_ticks(lo, hi, n=5):

@@ -219,7 +219,7 @@ class Frame:
                 body = 2.6 * px + labels
             else:
                 body = 2.2 * px + max(_text_width(label, self.font) for label, _ in legend.classes)
-            legend_w = round(min(max(heading, body) + 1.5 * px, 0.4 * W))
+            legend_w = round(min(max(heading, body) + 1.5 * px, 0.45 * W))
         self.pad = pad
         self.title = (pad, pad, W - 2 * pad, title_h)
         self.view = (pad, pad + title_h, W - 2 * pad - legend_w, H - 2 * pad - title_h)
