@@ -69,7 +69,7 @@ def _refine(P, w, grid, num):
             else:
                 sl = slice(i0 * cols + j0, i0 * cols + j1)
             Q, Qw = P[sl], None if w is None else w[sl]
-            for _ in range(num):
+            for _level in range(num):
                 Q, Qw = bezier._subdivide(Q, 0.5, 0.5, Qw)  # (k, 2, 2, ...): the four halves of each
                 Q = Q.reshape((-1,) + tail_P)
                 Qw = None if Qw is None else Qw.reshape((-1,) + tail_w)

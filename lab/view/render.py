@@ -16,10 +16,10 @@ import pyvista as pv
 
 from ..geometry import validation as _v
 from ..interrogation.reflection import VIEW_DIRECTION
+from ..model.patches import BezierPatches
 from . import style
 from .legend import Legend
 from .legend import legend as make_legend
-from ..model.patches import BezierPatches
 
 __all__ = [
     "VIEW_DIRECTION",
