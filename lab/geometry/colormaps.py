@@ -73,7 +73,8 @@ def _values(x, name="values"):
     except (TypeError, ValueError) as exc:
         raise TypeError(f"{name} must be an array of real numbers; got {type(x).__name__} ({exc})") from None
     if np.any(np.isnan(x)):
-        raise ValueError(f"{name} contain NaN; colour maps need finite numbers (check the 'degenerate' mask)")
+        raise ValueError(f"{name} contain NaN; colour maps need finite numbers (a NaN comes from 0/0 or from the "
+                         "square root of a negative number, e.g. √(H² − K) at an umbilic point)")
     if np.any(np.isinf(x)):
         raise ValueError(f"{name} must be finite for a colour map; got inf (lab.colormaps.colors_for paints "
                          "non-finite values grey)")

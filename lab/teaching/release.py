@@ -48,7 +48,7 @@ ROOT = Path(__file__).resolve().parents[2]
 MARK = ".lab-release"
 #: Teaching modules withheld whole: they hold the cases, the exact answers and the hints.
 WHOLE_MODULES = ("tasks.py", "tasks_colors.py", "tasks_curvature.py", "tasks_interrogation.py", "tasks_trimming.py",
-                 "references.py", "hints.py")
+                 "references.py", "hints.py", "mutants.py")
 #: Top-level files and folders of the hand-out, taken from the course repository.
 COPIED = ("pyproject.toml", "jupyter")
 #: Solution lines shorter than this (after removing spaces) are not searched: ``return K``, ``else:``.
