@@ -2,8 +2,8 @@
 
     .venv/bin/python deploy/constraints.py        (after `make test`; tests/test_deploy.py fails when it is stale)
 
-The closure of curvature-lab's own requirements (no test or benchmark extras) and nbgitpuller, from the metadata of
-the installed distributions.
+The closure of curvature-lab's own requirements with its extra "cad" (no test or benchmark extras) and nbgitpuller,
+from the metadata of the installed distributions.
 """
 
 import re
@@ -12,7 +12,7 @@ from importlib import metadata
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-ROOTS = ("curvature-lab", "nbgitpuller")
+ROOTS = ("curvature-lab[cad]", "nbgitpuller")
 
 
 def _name(requirement):
@@ -23,8 +23,10 @@ def closure(roots=ROOTS):
     """``{name: version}`` of the installed distributions the roots need (markers of extras left out)."""
     seen, todo = {}, [r.lower() for r in roots]
     while todo:
-        name = todo.pop()
-        if name in seen:
+        root = todo.pop()
+        name, _, extras = root.partition("[")
+        extras = set(extras.rstrip("]").split(",")) - {""}
+        if name in seen and not extras:
             continue
         try:
             dist = metadata.distribution(name)
@@ -32,7 +34,8 @@ def closure(roots=ROOTS):
             continue
         seen[name] = dist.version
         for req in dist.requires or []:
-            if "extra ==" in req:
+            wanted = re.search(r"extra\s*==\s*['\"]([^'\"]+)['\"]", req)
+            if wanted and wanted.group(1) not in extras:
                 continue
             todo.append(_name(req))
     seen.pop("curvature-lab", None)

@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip
 STAMP  := $(VENV)/.installed
-APT_PACKAGES := libegl1 libgl1-mesa-dri
+APT_PACKAGES := libegl1 libgl1-mesa-dri occt-misc
 PORT ?= 8888
 # The lab's language: German with `make lab LANG=de` or a German system locale (LANG=de_DE.UTF-8 …), English otherwise.
 # It selects exercises/<lang>, JupyterLab's interface language and LAB_LANG (checks, hints, labels) for the kernels.
@@ -13,9 +13,14 @@ LAB_LANGUAGE := $(if $(filter de%,$(LANG)),de,en)
 
 .PHONY: lab setup system-deps clean
 
-# Debian packages that offscreen rendering (EGL) needs (and Chromium for the browser tests); installed only when missing.
+# Debian packages that offscreen rendering (EGL) needs, OpenCASCADE's sample parts (occt-misc, for lab.models) and
+# Chromium for the browser tests; installed only when missing.  Without apt-get it says what to get instead.
 system-deps:
-	@missing=""; for p in $(APT_PACKAGES) $(EXTRA_APT); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	@if ! command -v dpkg >/dev/null || ! command -v apt-get >/dev/null; then \
+	  echo "no apt-get: install EGL (libegl1, Mesa) yourself; OpenCASCADE's sample parts (lab.models.wing() ...) are"; \
+	  echo "in Debian's occt-misc or OCCT's source tree (data/occ, data/iges, data/step): set LAB_OCC_DATA to that folder"; \
+	  exit 0; fi; \
+	missing=""; for p in $(APT_PACKAGES) $(EXTRA_APT); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
 	if [ -n "$$missing" ]; then \
 	  echo "installing system packages:$$missing"; \
 	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO="sudo"; \
@@ -28,9 +33,10 @@ $(PY):
 
 OVERRIDES := $(VENV)/share/jupyter/lab/settings/overrides.json
 
-# What the lab needs (the course repository's test set-up adds the test tools).
+# What the lab needs, with the extra "cad" (OpenCASCADE, rhino3dm, pyiges: lab.read of STEP/IGES/BREP/3dm files and
+# lab.models); the course repository's test set-up adds the test tools.
 $(STAMP): pyproject.toml jupyter/overrides.json jupyter/settings.py | $(PY)
-	$(PIP) install -q -e .
+	$(PIP) install -q -e ".[cad]"
 	$(PY) jupyter/settings.py $(LAB_LANGUAGE) $(OVERRIDES)
 	@touch $(STAMP)
 

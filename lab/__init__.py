@@ -9,7 +9,8 @@ The package is layered; a folder is a layer and imports only point down (``LAYER
 ``mesh/``          PyVista meshes with exact curvature, welding, level lines, geomview files
 ``model/``         the objects a student handles: surface classes, named surfaces, the practical's
                    ``BezierPatches``
-``interrogation/`` focal surfaces, reflection lines, geodesics and isodistance curves, trimmed surfaces
+``interrogation/`` focal surfaces, reflection lines, geodesics and isodistance curves, trimmed surfaces, real
+                   parts read from STEP/IGES/BREP/geomview/Rhino files (``lab.read``, OpenCASCADE only then)
 ``view/``          offscreen pictures and the interactive explorers (ipywidgets, trame)
 ``teaching/``      in-notebook checks and hints, the sandboxed grader, exercise generation
 =================  ======================================================================================
@@ -39,6 +40,7 @@ MODULES = {
     "colormaps": "lab.geometry.colormaps",
     "curvature": "lab.geometry.curvature",
     "derivatives": "lab.geometry.derivatives",
+    "directions": "lab.geometry.directions",
     "grids": "lab.geometry.grids",
     "tensor": "lab.geometry.tensor",
     "surface": "lab.model.surface",
@@ -59,17 +61,22 @@ MODULES = {
 #: Public names -> the module that defines them.
 _NAMES = {
     "lab.geometry.curvature": ("Curvature", "CurvatureMode", "DegeneratePointWarning", "PointClass"),
+    "lab.geometry.directions": ("CurvatureDirections",),
     "lab.geometry.colormaps": ("ColorMap",),
     "lab.geometry.derivatives": ("Derivatives",),
     "lab.geometry.validation": ("memory_limit", "set_memory_limit"),
     "lab.model.patches": ("BezierPatch", "BezierPatches"),
     "lab.model.surface": ("BezierSurface", "BSplineSurface", "ParametricSurface", "Surface"),
     "lab.interrogation.trimming": ("BSplineLoop", "TrimmedSurface", "trimmed"),
-    "lab.interrogation.geodesics": ("Fan", "Isodistance", "geodesic", "geodesic_between", "geodesic_fan",
-                                    "normal_section", "normal_section_fan", "polar_isodistance"),
+    "lab.interrogation.geodesics": ("Fan", "Isodistance", "UmbilicWarning", "geodesic", "geodesic_between",
+                                    "geodesic_fan", "line_of_curvature", "lines_of_curvature", "normal_section",
+                                    "normal_section_fan", "polar_isodistance"),
+    "lab.interrogation.umbilics": ("Umbilic", "umbilics"),
+    "lab.interrogation.continuity": ("Continuity", "continuity"),
     "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
+    "lab.interrogation.cad": ("Model", "read"),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
     "lab.i18n": ("set_language", "language"),
 }

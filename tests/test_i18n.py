@@ -98,8 +98,10 @@ def test_explorer_labels_speak_german():
         info = e.info.value
         title = e.picture_title()
         fan_legend = g.legend_html()
-    assert (e.measure.description, e.color_map.description, e.depth.description) == ("Größe", "Farbabbildung",
-                                                                                       "Unterteilung")
+    # the labels the notebooks' text uses ("Krümmungsmaß", "Tiefe"), in the form of address "Sie"
+    assert (e.measure.description, e.color_map.description, e.depth.description) == ("Krümmungsmaß", "Farbabbildung",
+                                                                                       "Tiefe")
+    assert e.range_mode.tooltips[1] == "−max|Wert| … +max|Wert|"
     assert labels["K  Gaußsche"] == "gaussian" and labels["H  mittlere"] == "mean", labels
     assert [label for label, _ in e.range_mode.options] == ["auto", "± max", "manuell"]
     assert legend.title == "Gaußsche Krümmung K  [1/Länge²]", legend.title

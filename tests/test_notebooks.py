@@ -117,7 +117,7 @@ def test_localize_picks_the_language_and_keeps_the_code():
     assert (en.metadata.lab.title, de.metadata.lab.title) == ("Demo", "Demo (deutsch)")
     assert all("lang" not in c.metadata and "de" not in c.metadata for nb in (en, de) for c in nb.cells)
     exercise = notebooks.make_exercise(de)
-    assert exercise.cells[-1].source == "F?\n*Deine Antwort hier.*"
+    assert exercise.cells[-1].source == "F?\n*Ihre Antwort hier.*"
     assert notebooks.make_exercise(en).cells[-1].source == "Q?\n*Your answer here.*"
 
 
@@ -184,14 +184,14 @@ def test_strip_code_keeps_indentation_and_message():
     src = "def f(x):\n    y = 1\n    ### BEGIN SOLUTION: return twice x\n    return 2 * x\n    ### END SOLUTION\n"
     assert notebooks.strip_code(src) == "def f(x):\n    y = 1\n    raise NotImplementedError('return twice x')\n"
     assert "replace this line with your solution" in notebooks.strip_code("### BEGIN SOLUTION\nx\n### END SOLUTION")
-    assert "ersetze diese Zeile durch deine Lösung" in notebooks.strip_code("### BEGIN SOLUTION\nx\n### END SOLUTION", "de")
+    assert "ersetzen Sie diese Zeile durch Ihre Lösung" in notebooks.strip_code("### BEGIN SOLUTION\nx\n### END SOLUTION", "de")
     with pytest.raises(ValueError, match="without '### END SOLUTION'"):
         notebooks.strip_code("### BEGIN SOLUTION\nx = 1\n")
     with pytest.raises(ValueError, match="'### END SOLUTION' without '### BEGIN SOLUTION'"):
         notebooks.strip_code("x = 1\n### END SOLUTION\n")
     md = "Q?\n<!-- BEGIN SOLUTION -->\nsecret\n<!-- END SOLUTION -->\nmore"
     assert notebooks.strip_markdown(md) == "Q?\n*Your answer here.*\nmore"
-    assert notebooks.strip_markdown(md, "de") == "Q?\n*Deine Antwort hier.*\nmore"
+    assert notebooks.strip_markdown(md, "de") == "Q?\n*Ihre Antwort hier.*\nmore"
 
 
 def test_regeneration_refuses_to_overwrite_student_work(tmp_path):

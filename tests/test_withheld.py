@@ -21,6 +21,8 @@ ANSWERS = {
                           "lab.geometry.curvature.from_derivatives", "lab.geometry.analytic.curvature_from_derivatives",
                           f"{SURFACE}.fundamental_forms", f"{SURFACE}.normal", f"{SURFACE}.curvature"],
     "curvatures": ["lab.geometry.curvature.principal_curvatures", "lab.geometry.curvature.from_derivatives",
+                   "lab.geometry.curvature.shape_operator", "lab.geometry.directions.from_derivatives",
+                   "lab.geometry.directions.eigen", f"{SURFACE}._directions",
                    "lab.geometry.analytic.curvature_from_derivatives", f"{SURFACE}.curvature",
                    f"{SURFACE}.curvature_grid"],
     "derivative_nets": ["lab.geometry.bezier.derivative_net", "lab.geometry.bezier.derivatives",

@@ -55,6 +55,7 @@ __all__ = [
     "from_derivatives",
     "fundamental_forms",
     "principal_curvatures",
+    "shape_operator",
     "strain_energy",
     "unit_normal",
     "with_limits",
@@ -214,6 +215,21 @@ def from_derivatives(d):
         ``degenerate`` is True; use :func:`fill_degenerate` to replace them by
         their limits.
     """
+    S11, S12, S21, S22, K, degenerate = shape_operator(d)
+    H = 0.5 * (S11 + S22)
+    root = np.sqrt(np.maximum(0.25 * (S11 - S22) ** 2 + S12 * S21, 0.0))
+    return Curvature(K, H, H + root, H - root, degenerate)
+
+
+def shape_operator(d):
+    r"""The Weingarten map :math:`S = \mathbf G^{-1}\mathbf H` in the parameter basis, with K and the degenerate mask.
+
+    Returns ``(S11, S12, S21, S22, K, degenerate)``, arrays of the batch shape;
+    :math:`S` maps the parameter coordinates of a tangent vector
+    :math:`w_1 \mathbf b_u + w_2 \mathbf b_v` to those of :math:`-\mathrm dN(w)`,
+    so its eigenvalues are :math:`\kappa_1, \kappa_2` and its eigenvectors the
+    principal directions.  NaN (and ``degenerate`` True) where ``b_u x b_v = 0``.
+    """
     # Dill's unnormalised form: Q = b_u x b_v, A, B, C = Q . (b_uu, b_uv, b_vv), e = A/|Q| ...;
     # EG - F^2 = |Q|^2 (Lagrange's identity) without the cancellation of EG - F^2.
     # Written out per coordinate on views with the coordinates first: the operations of np.cross
@@ -232,9 +248,7 @@ def from_derivatives(d):
         S12 = (G * f - F * g) / W2
         S21 = (E * f - F * e) / W2
         S22 = (E * g - F * f) / W2
-    H = 0.5 * (S11 + S22)
-    root = np.sqrt(np.maximum(0.25 * (S11 - S22) ** 2 + S12 * S21, 0.0))
-    return Curvature(K, H, H + root, H - root, degenerate)
+    return S11, S12, S21, S22, K, degenerate
 
 
 def _dot3(a, b):

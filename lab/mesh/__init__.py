@@ -4,7 +4,7 @@ May import numpy, scipy, pyvista and lab.geometry; surfaces and patches arrive a
 """
 
 from .build import WELD_RTOL, color_cells, color_curvature, grid_mesh, patches_mesh, surface_mesh, weld
-from .geomview import read_cbez, read_off, write_cbez, write_off
+from .geomview import read_cbez, read_geomview, read_off, write_cbez, write_off
 from .trimmed import trimmed_mesh
 
 __all__ = [
@@ -14,6 +14,7 @@ __all__ = [
     "grid_mesh",
     "patches_mesh",
     "read_cbez",
+    "read_geomview",
     "read_off",
     "surface_mesh",
     "trimmed_mesh",

@@ -1,10 +1,15 @@
 """Geomview export and import: coloured Bézier patches (``CBEZ333``, the practical's format) and (coloured) OFF."""
 
+import os
+
 import numpy as np
+import pyvista as pv
 
-from .build import _faces
+from ..geometry import bezier
+from ..i18n import _
+from .build import _bilinear, _faces, grid_mesh
 
-__all__ = ["read_cbez", "read_off", "write_cbez", "write_off"]
+__all__ = ["read_cbez", "read_geomview", "read_off", "write_cbez", "write_off"]
 
 
 def write_off(mesh, path):
@@ -119,3 +124,45 @@ def read_cbez(path):
         w = nets[..., 3]
         return nets[..., :3] / w[..., None], w, colors
     return nets, None, colors
+
+
+def read_geomview(path, resolution=8):
+    """A file written for geomview (``CBEZ<m><n><d>`` or ``OFF``/``COFF``), read back as a mesh to look at.
+
+    The practical's last step ("kann dann mit geomview betrachtet werden") in the notebook: the patches of a
+    ``CBEZ`` file are sampled on a ``resolution x resolution`` grid each, their corner colours interpolated
+    bilinearly (as geomview shades them); an OFF file gives its polygons and, for ``COFF``, its vertex colours.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    resolution : int
+        Quads per patch edge for ``CBEZ`` files.
+
+    Returns
+    -------
+    pyvista.PolyData
+        ``RGB`` point data (uint8) when the file has colours; field data ``geomview_format`` (the header).
+    """
+    path = os.fspath(path)
+    tok = _tokens(path)
+    head = tok[0] if tok else ""
+    if head.startswith("CBEZ"):
+        nets, weights, colors = read_cbez(path)
+        s = np.linspace(0.0, 1.0, int(resolution) + 1)
+        U, V = np.meshgrid(s, s, indexing="ij")
+        points = bezier.evaluate(nets, U, V, weights)
+        mesh = grid_mesh(points, {"colors": _bilinear(colors[..., :3], s)})
+        rgb = mesh.point_data.pop("colors")
+    elif head in ("OFF", "COFF"):
+        points, faces, colors = read_off(path)
+        cells = np.concatenate([np.r_[len(f), f] for f in faces]) if faces else np.zeros(0, dtype=int)
+        mesh = pv.PolyData(points, cells)
+        rgb = None if colors is None else colors[:, :3]
+    else:
+        raise ValueError(_("{path}: not a geomview file the lab writes (expected a CBEZ<m><n><d>, OFF or COFF "
+                           "header; got {head!r})").format(path=path, head=head))
+    if rgb is not None:
+        mesh.point_data["RGB"] = np.round(255 * np.clip(rgb, 0, 1)).astype(np.uint8)
+    mesh.field_data["geomview_format"] = [head]
+    return mesh

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..geometry import bezier, bspline
 from ..geometry import curvature as _curv
+from ..geometry import directions as _dirs
 from ..geometry import tensor as _tensor
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
@@ -39,7 +40,7 @@ class Surface:
     periodic = (False, False)
 
     #: Bytes per point that curvature, derivatives and meshes plan for (results and parameter copies).
-    BYTES_PER_POINT = {"curvature": 80, "derivatives": 200}
+    BYTES_PER_POINT = {"curvature": 80, "derivatives": 200, "directions": 160}
 
     def _derivatives(self, u, v):  # pragma: no cover - abstract
         """Derivatives at checked parameters of any (equal) shape."""
@@ -153,8 +154,13 @@ class Surface:
         (u0, u1), (v0, v1) = self.domain
         return 0.5 * (u0 + u1), 0.5 * (v0 + v1)
 
-    def curvature(self, u, v, *, memory_limit=None):
+    def curvature(self, u, v, *, directions=False, memory_limit=None):
         """Gaussian, mean and principal curvatures (see :mod:`lab.curvature`).
+
+        With ``directions=True`` also the unit principal directions ``d1, d2``
+        (3-vectors of κ1 and κ2, from the Weingarten map: see
+        :mod:`lab.geometry.directions`) and the ``umbilic`` mask; at umbilics
+        (κ1 = κ2) and degenerate points the directions are NaN and flagged.
 
         At degenerate points (``b_u x b_v = 0``) the values are the limits
         approached from inside the domain, the ``degenerate`` mask is set and a
@@ -163,9 +169,12 @@ class Surface:
 
         Returns
         -------
-        Curvature
-            Fields ``K, H, k1, k2, degenerate`` of shape ``broadcast(u, v).shape``.
+        Curvature or CurvatureDirections
+            Fields ``K, H, k1, k2, degenerate`` of shape ``broadcast(u, v).shape``; with
+            ``directions=True`` also ``d1, d2`` (shape ``... + (3,)``) and ``umbilic``.
         """
+        if directions:
+            return self._directions(u, v, None, memory_limit)
         return self._curvature(u, v, None, memory_limit)
 
     def curvature_grid(self, u, v, *, memory_limit=None):
@@ -182,6 +191,13 @@ class Surface:
                                    bytes_per_point=self.BYTES_PER_POINT["curvature"])
         curv = _curv.Curvature(*fields)
         return _curv.with_limits(curv, u, v, self.centre, lambda index, uu, vv: self._derivatives(uu, vv))
+
+    def _directions(self, u, v, grid, memory_limit):
+        u, v, fields = self.sample(_dirs.from_derivatives, u, v, grid=grid, memory_limit=memory_limit,
+                                   bytes_per_point=self.BYTES_PER_POINT["directions"])
+        curv = _curv.with_limits(_curv.Curvature(*fields[:5]), u, v, self.centre,
+                                 lambda index, uu, vv: self._derivatives(uu, vv))
+        return _dirs.CurvatureDirections(*curv, *fields[5:])
 
     def sample_grid(self, u, v, *, memory_limit=None):
         """Points, unit normals and curvature on the grid ``u`` × ``v`` in one pass (what a mesh needs).

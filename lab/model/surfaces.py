@@ -16,6 +16,8 @@ __all__ = [
     "catenoid",
     "cone",
     "cylinder",
+    "ellipsoid",
+    "ellipsoid_umbilics",
     "hood",
     "isodistance_geodesics_example",
     "isodistance_sections_example",
@@ -111,6 +113,48 @@ def sphere(radius=1.0):
     s = _revolve(profile, w, knots, 2, profile_first=False)
     s.periodic = (True, False)
     return s
+
+
+def ellipsoid(a=3.0, b=2.0, c=1.0):
+    """The ellipsoid x²/a² + y²/b² + z²/c² = 1 as an exact biquadratic NURBS (the sphere's net, stretched).
+
+    The poles of the parametrisation (the sphere's, see :func:`sphere`) lie on
+    the middle axis, so with three distinct semi-axes the four umbilics
+    (:func:`ellipsoid_umbilics`) are interior points of the domain, away from
+    the seam u = 0.  A cyclic exchange of the axes is a rotation, so the
+    normal points outwards as on the sphere (H < 0 with the practical's
+    convention).
+    """
+    axes = np.array([a, b, c], dtype=float)
+    if not (axes.shape == (3,) and np.all(np.isfinite(axes)) and np.all(axes > 0)):
+        raise ValueError(f"semi-axes a, b, c must be positive numbers; got a={a}, b={b}, c={c}")
+    s = sphere(1.0)
+    middle = int(np.argsort(axes, kind="stable")[1])
+    # the sphere's axis (its poles) goes to the middle axis by a cyclic exchange of coordinates
+    P = np.roll(s.control_points, middle - 2, axis=-1) * axes
+    e = BSplineSurface(P, s.knots_u, s.knots_v, *s.degree, weights=s.weights)
+    e.periodic = (True, False)
+    return e
+
+
+def ellipsoid_umbilics(a=3.0, b=2.0, c=1.0):
+    """The four umbilics of the ellipsoid with semi-axes a, b, c (distinct), shape (4, 3).
+
+    With the semi-axes sorted A > B > C they lie in the plane of the largest and
+    the smallest axis, at ±A √((A² − B²)/(A² − C²)) along the first and
+    ±C √((B² − C²)/(A² − C²)) along the last (Hilbert and Cohn-Vossen, §27).
+    """
+    axes = np.array([a, b, c], dtype=float)
+    order = np.argsort(axes)[::-1]
+    A, B, C = axes[order]
+    if not (A > B > C > 0):
+        raise ValueError(f"the semi-axes must be distinct positive numbers; got a={a}, b={b}, c={c}")
+    x = A * np.sqrt((A**2 - B**2) / (A**2 - C**2))
+    z = C * np.sqrt((B**2 - C**2) / (A**2 - C**2))
+    out = np.zeros((4, 3))
+    for k, (sx, sz) in enumerate(((1, 1), (1, -1), (-1, 1), (-1, -1))):
+        out[k, order[0]], out[k, order[2]] = sx * x, sz * z
+    return out
 
 
 def torus(R=2.0, r=1.0):
@@ -313,6 +357,7 @@ REGISTRY = {
     "practical": practical,
     "plane": plane,
     "sphere": sphere,
+    "ellipsoid": ellipsoid,
     "torus": torus,
     "cylinder": cylinder,
     "cone": cone,

@@ -37,7 +37,7 @@ cell, so checks, hints and explorer labels speak German) and ``exercises/L/NN_to
   ``raise NotImplementedError("…")`` at the same indentation; the text after ``### BEGIN SOLUTION:`` is
   the message, so it says what to implement;
 * in markdown cells, the text from ``<!-- BEGIN SOLUTION -->`` to ``<!-- END SOLUTION -->`` becomes
-  ``*Your answer here.*`` (``*Deine Antwort hier.*``).
+  ``*Your answer here.*`` (``*Ihre Antwort hier.*``).
 
 The assignment id and the task list are the same in both languages.  Outputs and execution counts are
 removed.  Each generated notebook records a digest of its cell sources in its metadata; regeneration
@@ -81,8 +81,8 @@ BEGIN = "### BEGIN SOLUTION"
 END = "### END SOLUTION"
 MD_BEGIN = "<!-- BEGIN SOLUTION -->"
 MD_END = "<!-- END SOLUTION -->"
-DEFAULT_MESSAGE = {"en": "replace this line with your solution", "de": "ersetze diese Zeile durch deine Lösung"}
-ANSWER_PLACEHOLDER = {"en": "*Your answer here.*", "de": "*Deine Antwort hier.*"}
+DEFAULT_MESSAGE = {"en": "replace this line with your solution", "de": "ersetzen Sie diese Zeile durch Ihre Lösung"}
+ANSWER_PLACEHOLDER = {"en": "*Your answer here.*", "de": "*Ihre Antwort hier.*"}
 SET_LANGUAGE = {"de": 'lab.set_language("de")  # Prüfungen, Hinweise und Beschriftungen auf Deutsch'}
 
 _ROOT = Path(__file__).resolve().parents[2]

@@ -29,9 +29,10 @@ ANALYTIC_BLOCK = tuple(f"lab.geometry.analytic.{name}" for name in (
 #: What computes fundamental forms, normals or curvature from derivatives, also through a surface object built
 #: on the given vectors (a ParametricSurface whose derivatives are the case's inputs).
 CURVATURE_BLOCK = ANALYTIC_BLOCK + tuple(f"lab.geometry.curvature.{name}" for name in (
-    "from_derivatives", "fundamental_forms", "principal_curvatures", "unit_normal")) + tuple(
+    "from_derivatives", "fundamental_forms", "principal_curvatures", "unit_normal", "shape_operator")) + (
+    "lab.geometry.directions.from_derivatives", "lab.geometry.directions.eigen") + tuple(
     f"lab.model.surface.Surface.{name}" for name in ("normal", "fundamental_forms", "curvature", "curvature_grid",
-                                                      "_curvature"))
+                                                      "_curvature", "_directions"))
 #: What computes derivative nets or derivatives of a Bézier patch (the corner stencils too).
 BEZIER_BLOCK = tuple(f"lab.geometry.bezier.{name}" for name in (
     "derivative_net", "derivatives", "corner_derivatives", "_corner_values", "_corner_stencil", "_both_corners",

@@ -73,6 +73,8 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
 
     options = dict(map_options or {})
     coloured = curvature is not None and color_map is not None
+    if isinstance(obj, (str, os.PathLike)):  # a file written for geomview, read back with its colours
+        obj = _mesh.read_geomview(obj, resolution=max(int(resolution), 8))
     if isinstance(obj, pv.PolyData):
         mesh = obj
         if coloured and "K" in mesh.point_data:
@@ -85,7 +87,7 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
     elif hasattr(obj, "derivatives") and hasattr(obj, "domain"):
         mesh = _mesh.surface_mesh(obj, n, n, curvature, color_map, **options)
     else:
-        raise TypeError(f"show expects BezierPatches, a lab surface or a pyvista.PolyData; got {type(obj).__name__}")
+        raise TypeError(f"show expects BezierPatches, a lab surface, a pyvista.PolyData or a geomview file; got {type(obj).__name__}")
     legend = None
     if coloured and "values" in mesh.point_data:
         mode = CurvatureMode(curvature).value
@@ -154,9 +156,10 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
 
     Parameters
     ----------
-    obj : BezierPatches, lab surface or pyvista.PolyData
+    obj : BezierPatches, lab surface, pyvista.PolyData or path
         Patches are shown with the colours their ``visualize_curvature`` stored
-        (or, with ``curvature`` and ``color_map``, coloured by the library).
+        (or, with ``curvature`` and ``color_map``, coloured by the library).  A path is a file written for
+        geomview (``write_cbez``, ``write_off``), read back with its colours (:func:`lab.mesh.read_geomview`).
     curvature, color_map : str, optional
         Colour by this curvature and map; the picture then has a colour bar
         (or the classification legend) in curvature units.

@@ -10,6 +10,7 @@ input checks shared by the entry points.
 import numpy as np
 
 from ...geometry.curvature import unit_normal
+from ...geometry.directions import eigen as _eigen
 from ...model.surface import BezierSurface, BSplineSurface, Surface, _SplineSurface
 from .polynomials import _geodesic_rhs_fast, _PatchEvaluator, _regularity_fast
 
@@ -21,6 +22,10 @@ ATOL = 1e-12
 
 GEODESIC = "geodesic"
 NORMAL_SECTION = "normal section"
+#: Lines of curvature of κ1 and κ2 (:mod:`.lines`).
+LINES = {"k1": "line of curvature (k1)", "k2": "line of curvature (k2)"}
+#: A line of curvature stops where (κ1 − κ2) / curvature scale falls below this (just before an umbilic).
+_UMBILIC_STOP = 1e-6
 
 #: A patch edge counts as crossed once a path is this far (relative to the patch width) beyond it.
 #: The margin keeps a path that starts on, or runs along, a knot line from triggering a crossing.
@@ -198,6 +203,39 @@ def _section_rhs(d, D):
         return np.stack([b / W, -a / W], axis=1)
 
 
+def _line_direction(d, first):
+    """Unit-speed parameter velocities ``(k, 2)`` along the principal direction of κ1 (``first``) or κ2, unoriented."""
+    _, _, _, _, _, w1, w2, _ = _eigen(d)
+    w = np.stack(w1 if first else w2, axis=-1)
+    E, F, G = _dot(d.bu, d.bu), _dot(d.bu, d.bv), _dot(d.bv, d.bv)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        speed = np.sqrt(E * w[:, 0] ** 2 + 2 * F * w[:, 0] * w[:, 1] + G * w[:, 1] ** 2)
+        return w / speed[:, None], (E, F, G)
+
+
+def _line_rhs(d, y, first, rate):
+    r"""Lines of curvature for states ``y = (u, v, p, q)``: :math:`(u', v') = \pm w`, the unit principal direction,
+    with the sign that agrees with the carried direction ``(p, q)``, and :math:`(p', q') = \lambda (\pm w - (p, q))`.
+
+    The carried direction only decides the sign of the line field (which has none of its own); it follows the
+    field with the relaxation rate :math:`\lambda` = ``rate`` (k, 1), so the path itself is the line of curvature
+    whatever the lag.
+    """
+    w, (E, F, G) = _line_direction(d, first)
+    p, q = y[:, 2], y[:, 3]
+    agree = E * w[:, 0] * p + F * (w[:, 0] * q + w[:, 1] * p) + G * w[:, 1] * q
+    w = w * np.where(agree < 0, -1.0, 1.0)[:, None]
+    out = np.empty_like(y)
+    out[:, :2] = w
+    out[:, 2:] = rate * (w - y[:, 2:4])
+    return out
+
+
+def _umbilic_gap(d):
+    """(κ1 − κ2) / curvature scale minus ``_UMBILIC_STOP``: negative just before an umbilic."""
+    return np.nan_to_num(_eigen(d)[7], nan=0.0) - _UMBILIC_STOP
+
+
 def _regularity(d):
     """|b_u x b_v| / (E + G): 1/2 for an orthonormal parametrisation, 0 at a degenerate point."""
     return np.linalg.norm(np.cross(d.bu, d.bv), axis=-1) / (_dot(d.bu, d.bu) + _dot(d.bv, d.bv))
@@ -218,7 +256,7 @@ class _Problem:
     def __init__(self, surface, kind):
         self.surface = surface
         self.kind = kind
-        self.m = 4 if kind == GEODESIC else 2
+        self.m = 2 if kind == NORMAL_SECTION else 4
         (u0, u1), (v0, v1) = surface.domain
         self.lo = np.array([u0, v0], dtype=float)
         self.hi = np.array([u1, v1], dtype=float)
@@ -329,7 +367,10 @@ class _Problem:
         V = self._fast_vectors(y, cell)
         if V is not None:  # as rhs(..., regular=True) computes it, so that the two agree to the last bit
             return _regularity_fast(V) - _DEGENERATE_STOP
-        return _regularity(self.derivatives(y[:, :2], cell)) - _DEGENERATE_STOP
+        d = self.derivatives(y[:, :2], cell)
+        if self.kind in LINES.values():
+            return np.minimum(_regularity(d) - _DEGENERATE_STOP, _umbilic_gap(d))
+        return _regularity(d) - _DEGENERATE_STOP
 
     def cross(self, y, cell):
         """After a gap event: the neighbouring cell across the edge crossed, and whether that edge is the domain boundary."""
@@ -374,6 +415,9 @@ class _Problem:
             f = _geodesic_rhs_fast(V, y, regular)
             return (f[0], f[1] - _DEGENERATE_STOP) if regular else f
         d = self.derivatives(y[:, :2], cell)
+        if self.kind in LINES.values():
+            f = _line_rhs(d, y, self.kind == LINES["k1"], D)
+            return (f, np.minimum(_regularity(d) - _DEGENERATE_STOP, _umbilic_gap(d))) if regular else f
         f = _geodesic_rhs(d, y) if self.kind == GEODESIC else _section_rhs(d, D)
         return (f, _regularity(d) - _DEGENERATE_STOP) if regular else f
 
@@ -394,6 +438,8 @@ class _Problem:
         if self.kind == GEODESIC:
             return y[:, 2:4].copy()
         w = self.wrap(y[:, :2])
+        if self.kind in LINES.values():
+            return _line_rhs(self.surface.derivatives(w[:, 0], w[:, 1]), y, self.kind == LINES["k1"], D)[:, :2]
         return _section_rhs(self.surface.derivatives(w[:, 0], w[:, 1]), D)
 
 

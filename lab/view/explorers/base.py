@@ -53,32 +53,20 @@ from ...geometry.curvature import DegeneratePointWarning
 from ...i18n import N_, _, language
 from .. import style
 from ..render import configure_offscreen
+from .controls import LABEL_WIDTH, SHORT_LABEL_WIDTH, _dropdown, _layout, fit_labels, style_for  # noqa: F401
 from .live import push_camera as _push_camera
 from .live import release as _release_view
 from .live import rendering as _rendering
 from .live import show as _show_live
 from .live import update as _update_live
 
-__all__ = ["Explorer", "callback_threads", "checkpoint", "in_jupyter_session", "live_view_choice",
+__all__ = ["Explorer", "callback_threads", "checkpoint", "fit_labels", "in_jupyter_session", "live_view_choice",
            "live_view_possible"]
 
 _INSTANCES = weakref.WeakSet()
 _BY_CELL = {}  # cell id -> (execution count, [weakref to explorer, ...])
 BACKENDS = ("client", "server", "trame")
 DEFAULT_BACKEND = "client"
-STYLE = {"description_width": "78px"}
-#: width of the controls' labels per language (German labels are longer: "Farbabbildung", "Unterteilung"),
-#: and of the short labels beside button rows ("range", "Bereich")
-LABEL_WIDTH = {"en": "78px", "de": "104px"}
-SHORT_LABEL_WIDTH = {"en": "46px", "de": "60px"}
-
-
-def style_for(short=False, **extra):
-    """The controls' label style in the current language (``short``: a short label; ``extra``: further keys)."""
-    widths = SHORT_LABEL_WIDTH if short else LABEL_WIDTH
-    return {"description_width": widths.get(language(), widths["en"]), **extra}
-
-
 def callback_threads():
     """Names of the threads on which widget callbacks of all explorers arrived (renders ran on the main thread)."""
     return sorted({name for e in list(_INSTANCES) for name in e.callback_threads})
@@ -207,7 +195,8 @@ class Explorer:
         style.apply_lights(self.plotter)
         # why the view is static when it could have been live; the status line shows it whenever it has nothing else
         self.live, self._static_note = live_view_choice() if live is None else (bool(live), None)
-        self.status = W.HTML(layout=W.Layout(min_height="1.4em", flex="1 1 auto"))
+        self.status = W.HTML(layout=W.Layout(min_height="1.4em", flex="1 1 0", min_width="0", overflow="hidden"))
+        self.status.add_class("lab-status")
         self.progress = W.FloatProgress(value=0.0, min=0.0, max=1.0, bar_style="info",
                                         layout=W.Layout(width="140px", height="14px", visibility="hidden"))
         self.legend_view = W.HTML(layout=W.Layout(width="100%"))
@@ -367,7 +356,10 @@ class Explorer:
         if not text and self._static_note:
             text, kind = self._static_note, "note"
         colour = {"ok": "#57606a", "note": "#9a6700", "error": "#cf222e", "busy": "#0969da"}[kind]
-        value = f'<span style="color:{colour}">{html.escape(text)}</span>' if text else ""
+        # one line: a long message ends in "…" and is shown whole as the tooltip (the line never wraps)
+        value = (f'<span class="lab-status-text" title="{html.escape(text)}" style="color:{colour};display:block;'
+                 f'white-space:nowrap;overflow:hidden;text-overflow:ellipsis">{html.escape(text)}</span>'
+                 if text else "")
         if self.status.value != value:
             self.status.value = value
 
@@ -476,6 +468,7 @@ class Explorer:
                                                                                        margin="0 1em 0 0")),
                            self.status, self.progress],
                           layout=W.Layout(align_items="center", width="auto", padding="0 0 0 4px"))
+            fit_labels(self._controls())
             controls = W.GridBox(self._controls(), layout=W.Layout(
                 width="100%", grid_template_columns="repeat(auto-fill, minmax(250px, 1fr))",
                 grid_gap="0px 14px", align_items="center"))
@@ -567,17 +560,6 @@ def _close_tree(widget):
         if isinstance(sub, W.Widget):
             sub.close()
     widget.close()
-
-
-def _dropdown(options, value, description):
-    """A dropdown with translated labels (``options``: (label, value) pairs, labels marked with ``N_``)."""
-    return W.Dropdown(options=[(_(label), v) for label, v in options], value=value, description=_(description),
-                      style=style_for(), layout=_layout())
-
-
-def _layout():
-    """A control that fills its grid cell (auto, not 100%: the widget's own margin would overflow the cell)."""
-    return W.Layout(width="auto", min_width="0")
 
 
 class _Note(Exception):

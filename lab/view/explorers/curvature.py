@@ -38,6 +38,8 @@ _MEASURES = {
     N_("κ1² + κ2²  strain energy"): "strain-energy",
     N_("classification (sign of K)"): "classification",
 }
+#: opacity of the surface while the control net is shown (the net runs above and below the surface)
+NET_SURFACE_OPACITY = 0.45
 #: maps whose range the range control sets (the others fix their own: cut [0, 1], ± max, percentiles, …)
 _RANGED = {"linear", "dill", *_PERCEPTUAL.values()}
 
@@ -110,7 +112,7 @@ class CurvatureExplorer(Explorer):
         self.range_mode = c(W.ToggleButtons(
             options=[(_("auto"), "auto"), ("± max", "symmetric"), (_("manual"), "manual")], value="auto",
             description=_("range"), style=style_for(short=True, button_width="auto"), layout=_layout(),
-            tooltips=[_("min … max of the values"), "−max|value| … +max|value|", _("type min and max")]))
+            tooltips=[_("min … max of the values"), _("−max|value| … +max|value|"), _("type min and max")]))
         self.range_mode.add_class("lab-range-mode")
         self.range_min = c(W.Text(value="", description=_("min"), continuous_update=False, disabled=True,
                                   style={"description_width": "30px"}, layout=W.Layout(width="auto", flex="1 1 0", min_width="0")))
@@ -200,7 +202,11 @@ class CurvatureExplorer(Explorer):
         nets = P[None] if P.ndim == 3 else P
         lines = [pv.lines_from_points(r) for net in nets for r in net] + [
             pv.lines_from_points(c) for net in nets for c in net.transpose(1, 0, 2)]
-        actor = self.plotter.add_mesh(pv.merge(lines), color="black", line_width=1, pickable=False)
+        net = pv.merge(lines + [pv.PolyData(nets.reshape(-1, 3).astype(float))])
+        # the net of a convex bump lies above the surface, elsewhere below it: where the surface would hide it,
+        # the surface turns translucent while the net is shown (toggle_overlays), and the lines are drawn thick
+        actor = self.plotter.add_mesh(net, color="#b3261e", line_width=2, point_size=6, pickable=False,
+                                      render_points_as_spheres=True, lighting=False)
         actor.SetVisibility(False)
         return actor
 
@@ -243,6 +249,7 @@ class CurvatureExplorer(Explorer):
     def toggle_overlays(self):
         if self.net_actor is not None:
             self.net_actor.SetVisibility(self.show_net.value)
+            self.actor.prop.opacity = NET_SURFACE_OPACITY if self.show_net.value else 1.0
         if self.show_borders.value and self.borders_actor is None:
             self._add_borders()
         if self.borders_actor is not None:
@@ -323,10 +330,26 @@ class CurvatureExplorer(Explorer):
             if self.student is None and self.range_mode.disabled == ranged:
                 self.range_mode.disabled = not ranged
 
+    def _sync_map_menu(self):
+        """With "classification" chosen as the measure the map menu says so (and waits); the map chosen before returns."""
+        if self.student is not None:
+            return
+        classified = self.measure.value == "classification"
+        with self._quiet():
+            if classified and self.color_map.value != "classification":
+                self._map_before = self.color_map.value
+                self.color_map.value = "classification"
+            elif not classified and self.color_map.disabled and getattr(self, "_map_before", None) is not None:
+                self.color_map.value = self._map_before
+                self._map_before = None
+            if self.color_map.disabled != classified:
+                self.color_map.disabled = classified
+
     def recolor(self):
         """Update colours only: point data, lookup table and scalar range of the existing actor."""
         if self.color_map.value is None or self.measure.value is None:  # a dropdown without a choice
             return
+        self._sync_map_menu()
         if self.student is not None:
             self._recolor_student()
         else:

@@ -1,0 +1,51 @@
+"""Real parts: :func:`read` a STEP, IGES, BREP, geomview or Rhino file into a :class:`Model` of NURBS faces with
+trimming loops and shared edges, mesh it with exact curvature, :func:`write` surfaces back.
+``model`` → ``occ`` (OpenCASCADE, imported only when a CAD file is read).
+"""
+
+import os
+
+from .model import Edge, Face, Model, Problem
+
+__all__ = ["Edge", "Face", "Model", "Problem", "read"]
+
+
+def read(path, *, name=None):
+    """Read a part: STEP (``.step``, ``.stp``), IGES (``.iges``, ``.igs``) or BREP (``.brep``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    name : str, optional
+        A name for pictures and tables (default: the file's name).
+
+    Returns
+    -------
+    Model
+        ``faces`` in the file's order, ``edges`` shared by two faces, ``problems``
+        (faces that could not be converted, by index and kind).
+
+    Raises
+    ------
+    FileNotFoundError
+        No such file.
+    ValueError
+        An empty, corrupt or unsupported file, named with what is wrong.
+    ImportError
+        A CAD file without OpenCASCADE installed (``pip install -e '.[cad]'``).
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a file name (str or os.PathLike); got {type(path).__name__}")
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"{path}: no such file")
+    ext = os.path.splitext(path)[1].lower()
+    name = name or os.path.basename(path)
+    from .occ import EXTENSIONS
+
+    if ext in EXTENSIONS:
+        from .occ import read_occ
+
+        return read_occ(path, name=name)
+    known = sorted(EXTENSIONS)
+    raise ValueError(f"{path}: unsupported file type {ext or '(no extension)'!r}; expected one of {', '.join(known)}")

@@ -1,0 +1,175 @@
+"""Real parts (lab.read, lab.Model): faces, orientation, shared edges and bad files; curvature against OpenCASCADE.
+
+OpenCASCADE comes with the extra "cad" that make setup and make test install; the sample parts with Debian's occt-misc
+(system-deps installs it). Without the data folder the tests that read it are skipped, saying why.
+"""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lab
+from lab.interrogation.cad import occ
+
+DATA = Path(os.environ.get("LAB_OCC_DATA", "/usr/share/opencascade/data"))
+needs_data = pytest.mark.skipif(not (DATA / "occ" / "wing.brep").exists(),
+                                reason=f"OpenCASCADE's sample parts (Debian occt-misc) are not in {DATA}")
+
+#: Sample files with B-spline faces (hammer.brep, Ball, CrankArm and Pump_TopCover have reversed ones).
+SAMPLES = ["occ/wing.brep", "occ/shell1.brep", "occ/hammer.brep", "occ/terrain.brep", "occ/Ball.brep",
+           "occ/CrankArm.brep", "occ/Pump_TopCover.brep", "iges/hammer.iges", "step/linkrods.step"]
+
+
+@pytest.fixture(scope="module")
+def models():
+    return {name: lab.read(DATA / name) for name in SAMPLES}
+
+
+def occ_faces(path):
+    """The file's faces as OpenCASCADE's TopoDS_Face objects, in the reader's order."""
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp
+
+    shape = occ.occ_shape(path)
+    faces = occ._shape_map()
+    TopExp.MapShapes_s(shape, TopAbs_FACE, faces)
+    return [occ._cast("Face")(faces.FindKey(i + 1)) for i in range(faces.Extent())]
+
+
+@needs_data
+def test_every_bspline_face_has_opencascades_curvature(models):
+    """K and H at 5 x 5 points inside each B-spline face's (u, v) bounds equal BRepLProp_SLProps's to 1e-8.
+
+    Relative to the point's curvature scale k = max(|k1|, |k2|, 1/L) with L the part's size: |dH| <= 1e-8 k and
+    |dK| <= 1e-8 k^2 (K = k1 k2, so its error scales with the principal curvatures even where K is 0), which
+    does not depend on the file's unit.  BRepLProp_SLProps does not follow the face's orientation (measured: on face.Reversed() it
+    gives the same H and normal), so on reversed faces the lab's H is compared with -H.
+    """
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.BRepLProp import BRepLProp_SLProps
+    from OCP.BRepTools import BRepTools
+
+    checked = reversed_faces = 0
+    worst = []
+    for name, model in models.items():
+        lo, hi = model.bounds()
+        L = float(np.linalg.norm(hi - lo))
+        shapes = occ_faces(DATA / name)
+        for face in model.faces:
+            if face.kind != "BSplineSurface":
+                continue
+            f = shapes[face.index]
+            props = BRepLProp_SLProps(BRepAdaptor_Surface(f), 2, 1e-9)
+            u0, u1, v0, v1 = BRepTools.UVBounds_s(f)
+            u, v = np.meshgrid(np.linspace(u0, u1, 7)[1:-1], np.linspace(v0, v1, 7)[1:-1], indexing="ij")
+            u, v = u.ravel(), v.ravel()
+            ref = []
+            for a, b in zip(u, v):
+                props.SetParameters(float(a), float(b))
+                assert props.IsCurvatureDefined()  # it also computes the curvatures: ask it first
+                ref.append((props.GaussianCurvature(), props.MeanCurvature(), props.MaxCurvature(),
+                            props.MinCurvature()))
+            K, H, k1, k2 = np.array(ref).T
+            k = np.maximum(np.maximum(np.abs(k1), np.abs(k2)), 1 / L)
+            c = face.curvature(u, v)
+            sign = -1.0 if face.reversed else 1.0
+            np.testing.assert_array_less(np.abs(c.K - K), 1e-8 * k**2,
+                                         err_msg=f"{name} face {face.index}: K")
+            np.testing.assert_array_less(np.abs(c.H - sign * H), 1e-8 * k,
+                                         err_msg=f"{name} face {face.index}: H")
+            worst.append(max(np.max(np.abs(c.K - K) / k**2), np.max(np.abs(c.H - sign * H) / k)))
+            checked += 1
+            reversed_faces += face.reversed
+    print(f"{checked} B-spline faces ({reversed_faces} reversed) x 25 points: largest error {max(worst):.2g}")
+    assert checked == 235 and reversed_faces == 22
+
+
+@needs_data
+def test_a_reversed_face_flips_h_and_the_principal_curvatures(models):
+    face = next(f for f in models["occ/hammer.brep"].faces if f.reversed)
+    u, v = face.surface.centre
+    c, s = face.curvature(u, v), face.surface.curvature(u, v)
+    assert (c.K, c.H, c.k1, c.k2) == (s.K, -s.H, -s.k2, -s.k1)
+    np.testing.assert_array_equal(face.normal(u, v), -face.surface.normal(u, v))
+
+
+@needs_data
+def test_faces_come_in_the_files_order_with_their_kinds(models):
+    model = models["step/linkrods.step"]
+    assert [f.index for f in model.faces] == list(range(37)) and model.problems == []
+    assert model.kinds() == {"BSplineSurface": 18, "Cylinder": 4, "Plane": 6, "Torus": 9}
+    # analytic faces are exact NURBS (rational where the file's surface is a conic one)
+    assert all(f.surface.weights is not None for f in model.faces if f.kind in ("Cylinder", "Torus"))
+    assert all(isinstance(f.surface, lab.BSplineSurface) for f in model.faces)
+
+
+@needs_data
+def test_trimming_loops_lie_on_the_face(models):
+    """Every trimmed face's loop points map to points of the face's edges (the mesh boundary is the part's)."""
+    model = models["occ/shell1.brep"]
+    trimmed = [f for f in model.faces if f.trim is not None]
+    assert trimmed
+    for face in trimmed:
+        for loop in face.trim.loops:
+            assert np.all(face.trim.contains(loop[:, 0], loop[:, 1]))
+
+
+@needs_data
+def test_shared_edges_give_the_same_points_on_both_faces(models):
+    for name in ("occ/shell1.brep", "step/linkrods.step", "occ/hammer.brep"):
+        model = models[name]
+        assert model.edges
+        lo, hi = model.bounds()
+        L = float(np.linalg.norm(hi - lo))
+        for edge in model.edges:
+            i, j = edge.faces
+            assert i != j and j in model.neighbours(i)
+            for index, uv in zip(edge.faces, edge.uv):
+                p = model.face(index).surface.evaluate(uv[:, 0], uv[:, 1])
+                gap = np.linalg.norm(p - edge.points, axis=1).max()
+                assert gap <= 1e-4 * L, f"{name} edge {edge.index} on face {index}: gap {gap:g} (L = {L:g})"
+
+
+@needs_data
+def test_a_face_that_cannot_be_converted_is_reported_by_index_and_kind():
+    model = lab.read(DATA / "occ" / "bottle.brep")
+    assert len(model.faces) + len(model.problems) == 71
+    assert [(p.index, p.kind) for p in model.problems] == [(5, "Cylinder"), (23, "Torus")]
+    assert all(p.reason for p in model.problems) and "face 23 (Torus)" in str(model.problems[1])
+    with pytest.raises(KeyError, match="no face with file index 23"):
+        model.face(23)
+
+
+def test_bad_files_are_named_with_what_is_wrong(tmp_path):
+    with pytest.raises(FileNotFoundError, match="nothing.step: no such file"):
+        lab.read(tmp_path / "nothing.step")
+    (tmp_path / "empty.step").write_text("")
+    with pytest.raises(ValueError, match="empty.step: the file is empty; expected a STEP file"):
+        lab.read(tmp_path / "empty.step")
+    (tmp_path / "junk.igs").write_text("this is not an IGES file\n" * 20)
+    with pytest.raises(ValueError, match="junk.igs: .*IGES"):
+        lab.read(tmp_path / "junk.igs")
+    (tmp_path / "junk.brep").write_text("garbage\n")
+    with pytest.raises(ValueError, match="junk.brep: OpenCASCADE could not read it as a BREP file"):
+        lab.read(tmp_path / "junk.brep")
+    (tmp_path / "part.stl").write_text("solid x\nendsolid x\n")
+    with pytest.raises(ValueError, match="part.stl: unsupported file type '.stl'; expected one of"):
+        lab.read(tmp_path / "part.stl")
+    with pytest.raises(TypeError, match="path must be a file name"):
+        lab.read(42)
+
+
+@needs_data
+def test_a_file_without_faces_is_refused():
+    with pytest.raises(ValueError, match="edge.brep: the file holds no faces"):
+        lab.read(DATA / "occ" / "edge.brep")
+
+
+def test_import_lab_does_not_import_opencascade():
+    code = "import sys, lab\nlab.read, lab.Model\nprint('OCP' in sys.modules)\n"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"

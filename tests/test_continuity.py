@@ -1,0 +1,154 @@
+"""lab.continuity: G0/G1/G2 across knot lines and patch borders.
+
+References: closed forms (two circular arcs of radii r1, r2 joined tangentially and extruded: g1 = 0,
+g2 = |1/r1 - 1/r2|), one-sided limits of the public evaluator approached from both sides, and OpenCASCADE's
+LocalAnalysis_SurfaceContinuity on the two Bézier pieces (skipped without cadquery-ocp-novtk)."""
+
+import numpy as np
+import pytest
+
+import lab
+from lab.interrogation.continuity import TOLERANCES
+
+C15 = np.cos(np.radians(15))  # the middle weight of a 30° arc: cos(half its angle)
+
+
+def two_arcs(r1=1.0, r2=2.5, length=2.0):
+    """Arcs of radius r1 (120°..90°) and r2 (90°..60°) meeting tangentially at the top, extruded along y.
+
+    An exact degree-(2, 1) NURBS with the join at the double knot u = 1."""
+    def arc(c, r, a0, a1):
+        a0, a1 = np.radians(a0), np.radians(a1)
+        p0 = c + r * np.array([np.cos(a0), np.sin(a0)])
+        p2 = c + r * np.array([np.cos(a1), np.sin(a1)])
+        mid = (a0 + a1) / 2
+        p1 = c + r / np.cos((a1 - a0) / 2) * np.array([np.cos(mid), np.sin(mid)])
+        return p0, p1, p2
+
+    a = arc(np.array([0.0, 0.0]), r1, 120, 90)
+    b = arc(np.array([0.0, r1 - r2]), r2, 90, 60)
+    xz = np.array([a[0], a[1], a[2], b[1], b[2]])
+    P = np.zeros((5, 2, 3))
+    P[:, :, 0], P[:, :, 2] = xz[:, None, 0], xz[:, None, 1]
+    P[:, 1, 1] = length
+    w = np.repeat(np.array([1, C15, 1, C15, 1])[:, None], 2, axis=1)
+    return lab.BSplineSurface(P, [0, 0, 0, 1, 1, 2, 2, 2], [0, 0, 1, 1], 2, 1, weights=w)
+
+
+def crease(height=0.05):
+    """A bicubic B-spline with a triple knot at u = 0.5 (C0) and the control point row there lifted: a kink."""
+    x = np.linspace(0, 1, 7)
+    X, Y = np.meshgrid(x, np.linspace(0, 1, 5), indexing="ij")
+    Z = 0.2 * np.sin(2 * X) * np.cos(Y)
+    Z[3] += height
+    P = np.stack([X, Y, Z], axis=-1)
+    return lab.BSplineSurface(P, [0, 0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1, 1], [0, 0, 0, 0, 0.5, 1, 1, 1, 1], 3, 3)
+
+
+def test_smooth_spline_surfaces_are_g2_everywhere():
+    rep = lab.continuity(lab.surfaces.practical())
+    assert len(rep.edges) == 12 and rep.achieved == "G2"
+    assert {(e.direction, e.value) for e in rep.edges} == {(d, float(k)) for d in "uv" for k in range(1, 7)}
+    assert all(e.kind == "knot line" and e.multiplicity == 1 and e.g0 == 0 for e in rep.edges)
+    assert max(e.g1 for e in rep.edges) <= 1e-11 and max(e.g2 for e in rep.edges) <= 1e-12
+    torus = lab.continuity(lab.surfaces.torus())
+    assert torus.achieved == "G2" and sum(e.kind == "seam" for e in torus.edges) == 2
+
+
+def test_tangent_arcs_are_g1_with_the_curvature_jump_of_their_radii():
+    r1, r2 = 1.0, 2.5
+    rep = lab.continuity(two_arcs(r1, r2))
+    (edge,) = rep.edges
+    assert (edge.kind, edge.direction, edge.value, edge.multiplicity) == ("knot line", "u", 1.0, 2)
+    assert edge.g0 <= 1e-15 and edge.g1 <= 1e-12
+    assert edge.g2 == pytest.approx(abs(1 / r1 - 1 / r2), rel=1e-13)
+    assert np.allclose(edge.jump, abs(1 / r1 - 1 / r2), rtol=1e-13)
+    assert edge.achieved == "G1" and rep.achieved == "G1"
+    np.testing.assert_allclose(edge.worst[[0, 2]], [0.0, r1], atol=1e-14)  # on the join line x = 0, z = r1
+
+
+def test_a_kink_is_g0_and_its_angle_is_the_one_sided_limit():
+    s = crease()
+    rep = lab.continuity(s, samples=9)
+    kink = next(e for e in rep.edges if e.direction == "u")
+    smooth = next(e for e in rep.edges if e.direction == "v")
+    assert kink.multiplicity == 3 and kink.achieved == "G0" and smooth.achieved == "G2"
+    # one-sided limits through the public evaluator, approached from both sides (error O(h))
+    v = np.concatenate([np.linspace(0, 0.5, 9), np.linspace(0.5, 1, 9)])  # the samples of the two v-spans
+    angles = []
+    for h in (1e-6, 1e-7):
+        nl, nr = s.normal(np.full_like(v, 0.5 - h), v), s.normal(np.full_like(v, 0.5 + h), v)
+        angles.append(np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", nl, nr), -1, 1))))
+    assert 5 < kink.g1 < 90
+    np.testing.assert_allclose(kink.angle, angles[1], atol=1e-4)
+    assert abs(angles[1] - kink.angle).max() < abs(angles[0] - kink.angle).max()  # converging to ours
+    assert rep.worst is kink and rep.achieved == "G0"
+
+
+def test_a_gap_achieves_none():
+    patches = lab.surfaces.practical().to_bezier_patches()
+    patches.control_points[10] += [0.0, 0.0, 0.01]  # move one patch up: four borders open
+    rep = lab.continuity(patches)
+    bad = [e for e in rep.edges if e.achieved == "none"]
+    assert len(bad) == 4 and all(10 in e.faces for e in bad)
+    assert all(e.g0 == pytest.approx(0.01, rel=1e-12) for e in bad)
+    assert rep.achieved == "none" and rep.worst in bad
+
+
+def test_patches_without_a_grid_are_matched_by_their_borders(rng):
+    grid = lab.surfaces.practical().to_bezier_patches()
+    order = rng.permutation(len(grid))
+    P = grid.control_points[order].copy()
+    P[3] = P[3].transpose(1, 0, 2)[::-1]  # one patch with swapped and reversed parameters
+    loose = lab.BezierPatches(P)
+    rep_grid, rep_loose = lab.continuity(grid), lab.continuity(loose)
+    assert len(rep_grid.edges) == len(rep_loose.edges) == 2 * 6 * 7
+    assert rep_loose.achieved == "G2"
+    assert max(e.g2 for e in rep_loose.edges) <= 1e-12
+
+
+def test_table_and_tolerances():
+    rep = lab.continuity(lab.surfaces.hood())
+    text = rep.table()
+    first = text.splitlines()[2]
+    assert first.startswith("knot line v = 3") and first.rstrip().endswith("G1")  # the crease first
+    assert "tolerances: G0 gap <=" in text and f"G1 angle <= {TOLERANCES['g1']:g} deg" in text
+    loose = lab.continuity(lab.surfaces.hood(), tol_g2=1e3)
+    assert loose.achieved == "G2"
+    with pytest.raises(ValueError, match="tol_g1 must be a finite number >= 0; got -1.0"):
+        lab.continuity(lab.surfaces.hood(), tol_g1=-1)
+    with pytest.raises(TypeError, match="continuity needs a lab.BSplineSurface, a lab.BezierPatches or a lab.Model"):
+        lab.continuity(lab.surfaces.catenoid())
+    with pytest.raises(ValueError, match="samples"):
+        lab.continuity(lab.surfaces.hood(), samples=1)
+
+
+def _occ_patch(net, weights):
+    from tests.occ_support import occt_surface
+
+    m, n = net.shape[0] - 1, net.shape[1] - 1
+    return occt_surface(lab.BSplineSurface(net, [0] * (m + 1) + [1] * (m + 1), [0] * (n + 1) + [1] * (n + 1), m, n,
+                                           weights=weights))
+
+
+def test_against_opencascade_local_analysis():
+    pytest.importorskip("OCP")
+    from OCP.GeomAbs import GeomAbs_Shape
+    from OCP.LocalAnalysis import LocalAnalysis_SurfaceContinuity
+
+    for s, check_g2 in ((two_arcs(), True), (crease(), False)):
+        nets, w, iu, iv = s.bezier_nets()
+        A = _occ_patch(nets[0, 0], None if w is None else w[0, 0])
+        B = _occ_patch(nets[1, 0], None if w is None else w[1, 0])
+        rep = lab.continuity(s, samples=7)
+        edge = next(e for e in rep.edges if e.direction == "u")
+        t = np.linspace(0, 1, 7)
+        for k, tk in enumerate(t):
+            la = LocalAnalysis_SurfaceContinuity(A, 1.0, float(tk), B, 0.0, float(tk), GeomAbs_Shape.GeomAbs_G2)
+            assert la.IsDone()
+            assert la.C0Value() == pytest.approx(edge.gap[k], abs=1e-14)
+            assert np.radians(edge.angle[k]) == pytest.approx(la.G1Angle(), abs=1e-10)
+            if check_g2:
+                # OpenCASCADE's gap is half the largest normal-curvature difference (|dη| + amplitude)/2; with
+                # the principal directions the same on both sides it is |1/r1 - 1/r2| / 2
+                assert 2 * la.G2CurvatureGap() == pytest.approx(edge.jump[k], rel=1e-12)
