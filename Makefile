@@ -17,6 +17,7 @@ $(TEST_STAMP): $(STAMP)
 
 test: EXTRA_APT = $(TEST_APT_PACKAGES)
 test: system-deps $(TEST_STAMP)
+	$(VENV)/bin/ruff check .
 	$(PY) jupyter/settings.py en $(OVERRIDES)
 	$(PY) -m pytest -n 2 --dist loadgroup --durations=12
 

@@ -112,8 +112,8 @@ def measure(browser, backend, repeat, workdir):
     write_notebook(workdir / name, [
         "import lab\nfrom lab import surfaces",
         f"e = lab.CurvatureExplorer(surfaces.practical(), depth=2, backend={backend!r})\ne",
-        f"g = lab.GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=40, step=0.5, n_curves=9, "
-        f"backend={backend!r})\ng",
+        (f"g = lab.GeodesicExplorer(surfaces.practical(), start=(4.9, 2.1), n_angles=40, step=0.5, n_curves=9, "
+         f"backend={backend!r})\ng"),
     ])
     rows = {}
     with jupyterlab(workdir) as (url, token):

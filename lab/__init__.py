@@ -82,7 +82,7 @@ _NAMES = {
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}
 
-__all__ = sorted(MODULES) + sorted(_ATTRIBUTES)
+__all__ = sorted(MODULES) + sorted(_ATTRIBUTES)  # noqa: PLE0605 - built from the lazy-import table so the two cannot drift
 
 
 def __getattr__(name):

@@ -221,7 +221,7 @@ def _mapper_range(nb, mode):
     expression = ("e.range_mode.value, e.busy, tuple(float(x) for x in e.actor.mapper.scalar_range), "
                   "dict(e.counts), e.status.value")
     text = _wait_value(nb, expression, lambda t: repr(mode) in t and ", False," in t)
-    got_mode, busy, used, counts, status = eval(text)
+    got_mode, busy, used, _counts, _status = eval(text)
     assert got_mode == mode and not busy, f"the kernel did not take {mode!r}: {text}"
     return used, text
 

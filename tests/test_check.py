@@ -173,7 +173,7 @@ def test_stub_garbage_errors_and_endless_loops_are_reported():
             try:
                 while True:
                     pass
-            except Exception:  # cannot hide the time limit
+            except Exception:  # noqa: BLE001, S110 - the student's code under test swallows everything on purpose
                 pass
 
     assert check.visualize_curvature(Swallow, timeout=1.0).status == "timeout"
@@ -195,7 +195,7 @@ def test_delegation_to_the_library_is_refused():
             d = lab.bezier.Derivatives(*(np.ones((2, 2, 3)),) * 6)
             try:
                 from_derivatives(d)
-            except Exception:
+            except Exception:  # noqa: BLE001, S110 - the student's code under test swallows everything on purpose
                 pass
             make_solution().visualize_curvature(self, curvature_mode, color_map)
 

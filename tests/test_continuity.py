@@ -137,7 +137,7 @@ def test_against_opencascade_local_analysis():
     from OCP.LocalAnalysis import LocalAnalysis_SurfaceContinuity
 
     for s, check_g2 in ((two_arcs(), True), (crease(), False)):
-        nets, w, iu, iv = s.bezier_nets()
+        nets, w, _, _ = s.bezier_nets()
         A = _occ_patch(nets[0, 0], None if w is None else w[0, 0])
         B = _occ_patch(nets[1, 0], None if w is None else w[1, 0])
         rep = lab.continuity(s, samples=7)

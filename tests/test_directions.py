@@ -53,7 +53,10 @@ def test_directions_frame_and_orientation(rng):
     c = s.curvature(u, v, directions=True)
     d = s.derivatives(u, v)
     N = s.normal(u, v)
-    dot = lambda a, b: np.einsum("...i,...i->...", a, b)  # noqa: E731
+
+    def dot(a, b):
+        return np.einsum("...i,...i->...", a, b)
+
     assert not c.umbilic.any() and not c.degenerate.any()
     for x in (c.d1, c.d2):
         np.testing.assert_allclose(np.linalg.norm(x, axis=-1), 1, atol=1e-14)

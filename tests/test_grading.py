@@ -170,7 +170,7 @@ def test_folder_of_submissions_with_reports_summary_and_gradescope(tmp_path):
     code = batch.main([str(subs), "--out", str(out), "-j", "2", "--seed", "7", "--format", "gradescope",
                          "--assignment", str(EXERCISE / "01_curves_and_orientation.ipynb")])
     assert code == 1  # bob has not done the task
-    rows = list(csv.DictReader(open(out / "summary.csv")))
+    rows = list(csv.DictReader((out / "summary.csv").read_text().splitlines()))
     assert list(rows[0])[:4] == ["student", "notebook", "score", "max_score"]
     by_student = {r["student"]: r for r in rows}
     assert float(by_student["ada"]["score"]) == 2 and by_student["ada"]["passed"] == "True"

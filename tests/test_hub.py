@@ -53,7 +53,7 @@ def hub(tmp_path_factory):
 def test_two_students_through_the_hub(hub, tmp_path):
     from playwright.sync_api import sync_playwright
 
-    url, root = hub
+    url, _root = hub
     origin = urlsplit(url).netloc
     foreign = []
     with sync_playwright() as p:
@@ -83,7 +83,7 @@ def test_two_students_through_the_hub(hub, tmp_path):
         options = select.locator("option").all_inner_texts()
         current = select.evaluate("s => s.options[s.selectedIndex].text")
         select.select_option(label=next(o for o in options if o != current))
-        after_a, changed = nb_a.wait_for_change(ex_a, before_a)
+        _after_a, changed = nb_a.wait_for_change(ex_a, before_a)
         assert changed, f"ada's view did not change; see {nb_a.shot('ada-unchanged')}"
         after_b = settled(nb_b, ex_b)
         assert after_b.shape == before_b.shape and abs(after_b - before_b).mean() < 1.0, "bob's view changed too"

@@ -36,7 +36,7 @@ def test_limit_from_keyword_setting_and_environment(limit, monkeypatch):
     p = surfaces.practical().to_bezier_patches()
     for depth in (2, 4):  # the estimate covers what refine really allocates, without overstating it much
         need = p.refine_bytes(depth)
-        peak, _ = traced_peak(lambda: p.copy().refine(depth))
+        peak, _ = traced_peak(lambda depth=depth: p.copy().refine(depth))
         assert peak <= need <= 10 * peak + 4e6
     with pytest.raises(ValueError, match=r"more than the limit of 1000 B \(given as memory_limit\)"):
         p.refine(2, memory_limit=1000)

@@ -261,7 +261,7 @@ def test_flat_shading_draws_each_polygon_in_one_of_dills_colours():
     from PIL import Image
 
     t = surfaces.torus(2.0, 1.0)
-    kwargs = dict(curvature="gaussian", color_map="dill", n=19, window_size=(640, 480))  # 18 x 18 big polygons
+    kwargs = {"curvature": "gaussian", "color_map": "dill", "n": 19, "window_size": (640, 480)}  # 18 x 18 big polygons
     flat = np.asarray(Image.open(io.BytesIO(render.show(t, shading="flat", **kwargs).data)))
     smooth = np.asarray(Image.open(io.BytesIO(render.show(t, **kwargs).data)))
     # a light at the eye with ambient + Lambert only scales a polygon's one colour: every pixel is a shade

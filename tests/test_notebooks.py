@@ -106,8 +106,8 @@ def test_localize_picks_the_language_and_keeps_the_code():
     before = copy.deepcopy(src)
     en, de = notebooks.localize(src, "en"), notebooks.localize(src, "de")
     assert src == before  # the source is unchanged
-    assert [c.source for c in en.cells if c.cell_type == "markdown"][0] == "# Curvature"
-    assert [c.source for c in de.cells if c.cell_type == "markdown"][0] == "# Krümmung"
+    assert next(c.source for c in en.cells if c.cell_type == "markdown") == "# Curvature"
+    assert next(c.source for c in de.cells if c.cell_type == "markdown") == "# Krümmung"
     assert [c.id for c in en.cells] == [c.id for c in de.cells]  # the English ids in both languages
     assert de.cells[1].source == 'import numpy as np\n\nimport lab\n' + notebooks.SET_LANGUAGE["de"]
     assert en.cells[1].source == "import numpy as np\n\nimport lab"

@@ -110,7 +110,7 @@ def test_student_style_loop_gives_the_reference(nets):
             values = []
             for patch in self:
                 P = patch.control_points
-                m, n = patch.degree
+                _m, _n = patch.degree
                 corners = []
                 for a, b in ((0, 0), (0, 1), (1, 0), (1, 1)):
                     c = lab.BezierSurface(P).curvature(a, b)

@@ -82,7 +82,7 @@ def test_picture_has_its_colour_bar_title_and_a_fitted_surface(practical):
     size = (800, 600)
     image, frame, legend = _parts(practical, "gaussian", "linear", size)
     assert image.shape == (600, 800, 3)
-    bx, by, bw, bh = (int(round(v)) for v in style.bar_box(frame))
+    bx, by, bw, bh = (round(v) for v in style.bar_box(frame))
     column = image[by + 2:by + bh - 2, bx + bw // 2].astype(int)  # top to bottom
     expected = (255 * legend.colors(len(column))[::-1]).astype(int)
     assert np.mean(np.abs(column - expected)) < 12, "the colour bar is missing or shows other colours"
@@ -94,7 +94,7 @@ def test_picture_has_its_colour_bar_title_and_a_fitted_surface(practical):
     # curved quadrilateral, so its bounding box is not full); before this style it was about 22% of the picture
     assert surface.mean() >= 0.35
     assert surface.sum() / (size[0] * size[1]) >= 0.23
-    x, y, w, h = frame.view
+    _x, _y, w, h = frame.view
     rows, cols = np.nonzero(surface)
     assert rows.min() < 0.1 * h and rows.max() > 0.9 * h  # fitted: the surface spans the view
     assert 0.3 * w < (cols.min() + cols.max()) / 2 < 0.7 * w  # centred

@@ -342,7 +342,6 @@ def test_paper_method_on_a_plane_gives_the_exact_straight_stripes():
     # on a plane seen from a finite eye the map is a similarity (see the test above): the stripe coordinate
     # is affine on the plane, so eq. 5's ratio on the map is exact and the paper's borders are the exact ones
     h, n = 2.0, 8
-    exact = I.stripe_mapping(surfaces.plane(), n_stripes=n, eye=(0.5, 0.5, h), resolution=12)
     paper = I.stripe_mapping(surfaces.plane(), n_stripes=n, eye=(0.5, 0.5, h), resolution=12, method="paper")
     assert paper.field_data["unresolved"][0] == 0
     lo, hi, w = paper.field_data["box_lo"], paper.field_data["box_hi"], paper.field_data["stripe_widths"][5]

@@ -51,7 +51,7 @@ def test_shorter_than_every_other_geodesic_found_and_close_to_the_mesh_path():
     shooter = shortest._Shooter(s, _problem(s, GEODESIC), d, a, xb, 1e-9 * np.linalg.norm(xb - xa), 1e-10, 1e-12)
     found = shooter.solve(shortest._fallback_guesses(shooter, d, xa, xb, float(np.linalg.norm(xb - xa)), 4))
     if found is not None:
-        alpha, state, end, _ = found
+        _alpha, _state, end, _ = found
         assert end >= p.length - 1e-8
 
 

@@ -112,7 +112,7 @@ def test_sine_wave_rings_alternate():
 def test_isodistance_examples_match_the_paper_description():
     a = surfaces.isodistance_sections_example()
     assert a.control_points.shape == (4, 6, 3) and a.degree == (3, 3) and a.weights is not None
-    nets, _, iu, iv = a.bezier_nets()
+    _nets, _, iu, iv = a.bezier_nets()
     assert (len(iu), len(iv)) == (1, 3)
     b = surfaces.isodistance_geodesics_example()
     assert b.control_points.shape == (4, 4, 3) and b.degree == (3, 3) and b.weights is not None

@@ -117,7 +117,7 @@ def test_iso_parameter_nodes_are_vertices():
     """seeds/002, 2.2: nodes of the iso-parameter grid inside the region, and the loops' crossings with the lines."""
     s = T.trimmed(surfaces.practical(), T.circle((3.5, 3.5), 3.0, n=16))
     n = 15
-    uv, tri = s.triangulate(n_u=n, n_v=n, min_angle=None)
+    uv, _tri = s.triangulate(n_u=n, n_v=n, min_angle=None)
     grid = np.linspace(0, 7, n)
     h = grid[1] - grid[0]
     U, V = np.meshgrid(grid, grid, indexing="ij")
@@ -255,20 +255,20 @@ SQUARE = np.array([[0.1, 0.1], [0.9, 0.1], [0.9, 0.9], [0.1, 0.9]])
 @pytest.mark.parametrize(
     "outer, holes, match",
     [
-        (SQUARE[::-1], [], r"outer loop runs clockwise \(signed area -0\.64\); the outer loop must run "
-                           r"counter-clockwise: reverse it \(loop\[::-1\]"),
-        (SQUARE, [T.circle((0.5, 0.5), 0.1)], r"hole 0 runs counter-clockwise \(signed area 0\.0\d+\); holes must "
-                                               r"run clockwise: reverse it"),
+        (SQUARE[::-1], [], (r"outer loop runs clockwise \(signed area -0\.64\); the outer loop must run "
+                            r"counter-clockwise: reverse it \(loop\[::-1\]")),
+        (SQUARE, [T.circle((0.5, 0.5), 0.1)], (r"hole 0 runs counter-clockwise \(signed area 0\.0\d+\); holes must "
+                                                r"run clockwise: reverse it")),
         ([[0.1, 0.1], [0.9, 0.9], [0.9, 0.1], [0.1, 0.9]], [],
-         r"outer loop intersects itself: segments 0 and 2 meet near \(0\.5, 0\.5\); a trimming loop must be a "
-         r"simple closed curve"),
+         (r"outer loop intersects itself: segments 0 and 2 meet near \(0\.5, 0\.5\); a trimming loop must be a "
+          r"simple closed curve")),
         ([[0.1, 0.1], [0.9, 0.1], [0.5, 0.1], [0.5, 0.9]], [], r"outer loop intersects itself: segments 0 and 1"),
         (SQUARE, [T.circle((0.5, 0.5), 0.1, clockwise=True), T.circle((1.2, 0.5), 0.1, clockwise=True)],
-         r"hole 1: points must lie in the surface's domain \[0, 1\] x \[0, 1\]; \d+ of 64 do not, e.g. point 0 = "
-         r"\(1\.3, 0\.5\)"),
+         (r"hole 1: points must lie in the surface's domain \[0, 1\] x \[0, 1\]; \d+ of 64 do not, e.g. point 0 = "
+          r"\(1\.3, 0\.5\)")),
         ([[0.1, 0.1], [1.5, 0.5], [0.1, 0.9]], [],
-         r"outer loop: points must lie in the surface's domain \[0, 1\] x \[0, 1\]; 1 of 3 do not, e.g. point 1 = "
-         r"\(1\.5, 0\.5\)"),
+         (r"outer loop: points must lie in the surface's domain \[0, 1\] x \[0, 1\]; 1 of 3 do not, e.g. point 1 = "
+          r"\(1\.5, 0\.5\)")),
         ([[0.1, 0.1], [0.9, 0.1], [0.1, 0.1]], [], r"outer loop must have at least 3 distinct points; got 2"),
         ([[0.1, 0.1, 0.0], [0.9, 0.1, 0.0], [0.1, 0.9, 0.0]], [],
          r"outer loop must be a \(k, 2\) array of \(u, v\) points or a BSplineLoop; got shape \(3, 3\)"),

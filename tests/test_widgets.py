@@ -249,7 +249,7 @@ def test_widget_layout_fills_the_output():
     w = e.widget
     assert w.layout.width == "100%" and "lab-explorer" in w._dom_classes
     assert e._view.layout.width == "100%"
-    grid = [c for c in w.children if isinstance(c, W.GridBox)][0]
+    grid = next(c for c in w.children if isinstance(c, W.GridBox))
     assert "auto-fill" in grid.layout.grid_template_columns  # controls wrap into as many columns as fit
     assert "lab-colorbar" in e.legend_view.value and "Gaussian curvature K" in e.legend_view.value
 

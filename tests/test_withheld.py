@@ -52,6 +52,9 @@ ANSWERS = {
                     "lab.interrogation.geodesics.problem._second_kind_of"],
     "start_velocity": ["lab.interrogation.geodesics.problem.start_direction",
                        "lab.interrogation.geodesics.problem._direction", "lab.interrogation.geodesics.problem._frame"],
+    "principal_directions": ["lab.geometry.directions.from_derivatives", "lab.geometry.directions.eigen",
+                             "lab.geometry.curvature.shape_operator", "lab.geometry.curvature.from_derivatives",
+                             f"{SURFACE}.curvature", f"{SURFACE}._directions", "lab.interrogation.umbilics.traceless"],
     "signed_area": ["lab.interrogation.trimming.loops.signed_area",
                     "lab.interrogation.trimming.surface.TrimmedSurface.area_uv"],
 }

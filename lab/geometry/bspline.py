@@ -16,6 +16,8 @@ Bézier patches.  Surfaces are evaluated with these basis functions by
 :mod:`lab.tensor` (in chunks, points grouped by knot spans, grids separably).
 """
 
+from itertools import pairwise
+
 import numpy as np
 
 from . import validation as _v
@@ -260,7 +262,7 @@ def _to_bezier_1d(Pw, U, p, axis):
             Pw, U = insert_knot(Pw, U, p, x, times=p - s, axis=axis)
     values = np.unique(U[(U >= lo) & (U <= hi)])
     segments, intervals = [], []
-    for a, b in zip(values[:-1], values[1:]):
+    for a, b in pairwise(values):
         k = int(np.searchsorted(U, a, side="right") - 1)  # last index with U_k == a
         segments.append(np.take(Pw, np.arange(k - p, k + 1), axis=axis))
         intervals.append((float(a), float(b)))

@@ -7,9 +7,11 @@ import contextlib
 import contextvars
 import gettext
 import os
+import re
 from pathlib import Path
 
-__all__ = ["DOMAIN", "LANGUAGES", "LOCALE_DIR", "N_", "_", "language", "set_language", "translation", "using"]
+__all__ = ["DOMAIN", "LANGUAGES", "LOCALE_DIR", "N_", "_", "decimal", "language", "parse_number", "set_language",
+           "translation", "using"]
 
 #: The languages the lab speaks.
 LANGUAGES = ("en", "de")
@@ -78,3 +80,16 @@ def _(message):
 def N_(message):
     """Mark ``message`` for extraction without translating it now (translate it with ``_`` where it is shown)."""
     return message
+
+
+_POINT = re.compile(r"(?<=\d)\.(?=\d)")
+
+
+def decimal(text):
+    """``text`` with its numbers' decimal points as the current language writes them ("0.5" → "0,5" in German)."""
+    return _POINT.sub(",", text) if language() == "de" else text
+
+
+def parse_number(text):
+    """A number a person typed: a decimal point or comma, a minus sign or hyphen (``ValueError`` otherwise)."""
+    return float(str(text).strip().replace("−", "-").replace(",", "."))

@@ -27,6 +27,7 @@ import numpy as np
 
 from ..geometry import bezier
 from ..geometry import validation as _v
+from ..geometry.derivatives import Derivatives, from_homogeneous
 from ..model.patches import BezierPatches
 from ..model.surface import BSplineSurface
 
@@ -188,28 +189,35 @@ def measures(dA, dB, tA, tB):
     return gap, angle, jump, kn
 
 
-def _level(g0, g1, g2, kn, tol, size):
-    if not g0 <= tol["g0"] * size:
-        return "none"
-    if not g1 <= tol["g1"]:
-        return "G0"
-    if not g2 <= tol["g2"] * (kn + 1 / size):
-        return "G1"
-    return "G2"
+def _levels(g0, g1, g2, kn, tol, size):
+    """The level achieved for arrays of per-edge maxima."""
+    out = np.full(np.shape(g0), "G2", dtype=object)
+    out[~(g2 <= tol["g2"] * (kn + 1 / size))] = "G1"
+    out[~(g1 <= tol["g1"])] = "G0"
+    out[~(g0 <= tol["g0"] * size)] = "none"
+    return out
 
 
-def _edge(kind, direction, value, faces, multiplicity, dA, dB, tA, tB, tol, size):
-    gap, angle, jump, kn = measures(dA, dB, tA, tB)
+def _edges(meta, dA, dB, tA, tB, tol, size):
+    """Edges from paired samples: fields of ``dA, dB`` and ``tA, tB`` have shape ``(edges, samples, 3)``;
+    ``meta`` holds per edge ``(kind, direction, value, faces, multiplicity)``."""
+    flat = lambda x: x.reshape(-1, 3)
+    gap, angle, jump, kn = measures(dA.map(flat), dB.map(flat), flat(tA), flat(tB))
+    shape = tA.shape[:2]
+    gap, angle, jump, kn = (x.reshape(shape) for x in (gap, angle, jump, kn))
     ok = np.isfinite(angle) & np.isfinite(jump)
-    g0 = float(np.max(gap)) if gap.size else 0.0
-    g1 = float(np.max(angle[ok])) if np.any(ok) else 0.0
-    g2 = float(np.max(jump[ok])) if np.any(ok) else 0.0
-    knmax = float(np.max(kn[ok])) if np.any(ok) else 0.0
-    achieved = _level(g0, g1, g2, knmax, tol, size)
-    deciding = {"none": gap, "G0": angle}.get(achieved, jump)
-    i = int(np.nanargmax(np.where(ok | (achieved == "none"), deciding, -np.inf))) if deciding.size else 0
-    return Edge(kind, direction, value, faces, multiplicity, g0, g1, g2, achieved, dA.b[i].copy(), dA.b.copy(),
-                gap, angle, jump)
+    with np.errstate(invalid="ignore"):
+        g0 = np.max(gap, axis=1)
+        g1 = np.max(np.where(ok, angle, 0.0), axis=1)
+        g2 = np.max(np.where(ok, jump, 0.0), axis=1)
+        knmax = np.max(np.where(ok, kn, 0.0), axis=1)
+    levels = _levels(g0, g1, g2, knmax, tol, size)
+    deciding = np.where((levels == "none")[:, None], gap, np.where((levels == "G0")[:, None], angle, jump))
+    deciding = np.where(ok | (levels == "none")[:, None], deciding, -np.inf)
+    worst = np.argmax(deciding, axis=1)
+    points = dA.b
+    return [Edge(*meta[i], float(g0[i]), float(g1[i]), float(g2[i]), levels[i], points[i, worst[i]].copy(),
+                 points[i], gap[i], angle[i], jump[i]) for i in range(len(meta))]
 
 
 def _tolerances(tol_g0, tol_g1, tol_g2):
@@ -231,43 +239,82 @@ def _size(points):
     return float(np.linalg.norm(p.max(axis=0) - p.min(axis=0))) or 1.0
 
 
+def _bernstein_derivatives(n, t):
+    """Bernstein bases of degree n at ``t`` and their first and second derivatives, each ``(len(t), n+1)``."""
+    B = bezier.bernstein(n, t)
+    if n == 0:
+        return B, np.zeros_like(B), np.zeros_like(B)
+    lower = bezier.bernstein(n - 1, t)
+    d1 = n * (np.pad(lower, ((0, 0), (1, 0))) - np.pad(lower, ((0, 0), (0, 1))))
+    if n == 1:
+        return B, d1, np.zeros_like(B)
+    low2 = bezier.bernstein(n - 2, t)
+    d2 = n * (n - 1) * (np.pad(low2, ((0, 0), (2, 0))) - 2 * np.pad(low2, ((0, 0), (1, 1)))
+                        + np.pad(low2, ((0, 0), (0, 2))))
+    return B, d1, d2
+
+
 def _border(nets, w, axis, end, t):
-    """Derivatives of patches ``nets`` (k, ...) on their border ``axis`` (0: u = end, 1: v = end) at ``t``."""
-    u, v = (np.full_like(t, end), t) if axis == 0 else (t, np.full_like(t, end))
-    return bezier.derivatives(nets, u, v, w)
+    """Exact one-sided derivatives of patches ``nets`` (..., p+1, q+1, 3) on their border ``axis`` (0: u = end,
+    1: v = end) at ``t``: fields ``(...) + t.shape + (3,)``.
+
+    On a border the surface and its cross derivatives are Bézier curves: the first three rows of control
+    points by forward differences (practical, section 3), evaluated with the Bernstein basis and its
+    derivatives along the border; rational patches in homogeneous coordinates, then the quotient rule.
+    """
+    Pw = bezier.homogeneous(nets, w)
+    if axis == 1:  # make the border a row: the cross direction first
+        Pw = np.swapaxes(Pw, -3, -2)
+    m, n = Pw.shape[-3] - 1, Pw.shape[-2] - 1
+    rows = Pw[..., ::-1, :, :] if end == 1.0 else Pw  # rows[0] on the border, rows[1], rows[2] inwards
+    sign = -1.0 if end == 1.0 else 1.0  # differences taken inwards: d/du at u = 1 has the opposite sign
+    R0 = rows[..., 0, :, :]
+    R1 = sign * m * (rows[..., 1, :, :] - rows[..., 0, :, :])
+    R2 = m * (m - 1) * (rows[..., 2, :, :] - 2 * rows[..., 1, :, :] + rows[..., 0, :, :]) if m >= 2 else 0 * R0
+    B, B1, B2 = _bernstein_derivatives(n, t)
+    along = np.matmul  # (k, n+1) @ (..., n+1, d) -> (..., k, d)
+    b, bc, bcc = along(B, R0), along(B, R1), along(B, R2)
+    bt, bct, btt = along(B1, R0), along(B1, R1), along(B2, R0)
+    fields = (b, bc, bt, bcc, bct, btt) if axis == 0 else (b, bt, bc, btt, bct, bcc)
+    d = Derivatives(*fields)
+    return d if w is None else from_homogeneous(d)
 
 
 def _grid_edges(nets, w, seams, tol, size, samples, kind, knot_lines=None):
-    """Edges of a grid of patches ``nets`` (R, C, ...): between rows (direction u) and columns (v)."""
+    """Edges of a grid of patches ``nets`` (R, C, ...): between rows (direction u) and columns (v).
+
+    All borders of a direction are evaluated together; a B-spline surface (``knot_lines`` given) gets one
+    edge per knot line, a grid of patches one per pair of neighbours."""
     R, C = nets.shape[:2]
     t = np.linspace(0.0, 1.0, samples)
     edges = []
     for axis in (0, 1):
         n_lines = R if axis == 0 else C
         periodic = bool(seams.periodic[axis]) if seams is not None else False
-        pairs = [(i, i + 1) for i in range(n_lines - 1)] + ([(n_lines - 1, 0)] if periodic and n_lines > 0 else [])
-        for a, b in pairs:
-            if axis == 0:
-                A, B = nets[a], nets[b]
-                wA, wB = (None, None) if w is None else (w[a], w[b])
-            else:
-                A, B = nets[:, a], nets[:, b]
-                wA, wB = (None, None) if w is None else (w[:, a], w[:, b])
-            dA = _border(A, wA, axis, 1.0, t).map(lambda x: x.reshape(-1, 3))
-            dB = _border(B, wB, axis, 0.0, t).map(lambda x: x.reshape(-1, 3))
-            tA, tB = (dA.bv, dB.bv) if axis == 0 else (dA.bu, dB.bu)
-            direction = "uv"[axis]
-            seam = b < a
-            if knot_lines is not None:  # a B-spline surface: one edge per knot line
-                value, mult = knot_lines[axis][len(knot_lines[axis]) - 1 if seam else a]
-                edges.append(_edge("seam" if seam else kind, direction, value, None, mult, dA, dB, tA, tB, tol, size))
-            else:  # a grid of patches: one edge per pair of neighbouring patches
-                k = len(t)
-                for j in range(A.shape[0]):
-                    sl = slice(j * k, (j + 1) * k)
-                    ia, ib = (a * C + j, b * C + j) if axis == 0 else (j * C + a, j * C + b)
-                    edges.append(_edge("seam" if seam else kind, direction, None, (ia, ib), None,
-                                       dA.map(lambda x: x[sl]), dB.map(lambda x: x[sl]), tA[sl], tB[sl], tol, size))
+        a = np.arange(n_lines - 1 + (periodic and n_lines > 1))
+        b = (a + 1) % n_lines
+        if len(a) == 0:
+            continue
+        take = (lambda x, i: x[i]) if axis == 0 else (lambda x, i: np.swapaxes(x[:, i], 0, 1))
+        A, B = take(nets, a), take(nets, b)  # (lines, others, p+1, q+1, 3)
+        wA, wB = (None, None) if w is None else (take(w, a), take(w, b))
+        dA, dB = _border(A, wA, axis, 1.0, t), _border(B, wB, axis, 0.0, t)  # (lines, others, samples, 3)
+        tA, tB = (dA.bv, dB.bv) if axis == 0 else (dA.bu, dB.bu)
+        direction = "uv"[axis]
+        seam = b < a
+        if knot_lines is not None:  # one edge per knot line: its samples over all the spans along it
+            lines = knot_lines[axis]
+            meta = [("seam" if seam[i] else kind, direction, *lines[-1 if seam[i] else i][:1], None,
+                     lines[-1 if seam[i] else i][1]) for i in range(len(a))]
+            merge = lambda x: x.reshape(x.shape[0], -1, 3)
+        else:  # one edge per pair of neighbouring patches
+            others = A.shape[1]
+            flat = [(a[i] * C + j, b[i] * C + j) if axis == 0 else (j * C + a[i], j * C + b[i])
+                    for i in range(len(a)) for j in range(others)]
+            meta = [("seam" if seam[i] else kind, direction, None, flat[i * others + j], None)
+                    for i in range(len(a)) for j in range(others)]
+            merge = lambda x: x.reshape(-1, x.shape[-2], 3)
+        edges += _edges(meta, dA.map(merge), dB.map(merge), merge(tA), merge(tB), tol, size)
     return edges
 
 
@@ -297,18 +344,22 @@ def _matched_edges(patches, tol, size, samples):
                     row = net[:, -1] if end else net[:, 0]
                 a, b = (tuple(np.round(x / eps).astype(np.int64)) for x in (row[0], row[-1]))
                 borders.setdefault(frozenset((a, b)), []).append((k, axis, end, a <= b))
-    edges = []
-    for found in borders.values():
-        if len(found) != 2 or found[0][0] == found[1][0]:
-            continue
-        (ka, axa, ea, oa), (kb, axb, eb, ob) = found
-        tb = t if oa == ob else 1.0 - t
-        dA = _border(P[ka], None if w is None else w[ka], axa, ea, t)
-        dB = _border(P[kb], None if w is None else w[kb], axb, eb, tb)
-        tA = dA.bv if axa == 0 else dA.bu
-        tB = dB.bv if axb == 0 else dB.bu
-        edges.append(_edge("patch border", None, None, (ka, kb), None, dA, dB, tA, tB, tol, size))
-    return edges
+    pairs = [found for found in borders.values() if len(found) == 2 and found[0][0] != found[1][0]]
+    if not pairs:
+        return []
+    sides = []
+    for side in (0, 1):
+        derivs, tangents = [], []
+        for found in pairs:
+            k, axis, end, forward = found[side]
+            tt = t if side == 0 or forward == found[0][3] else 1.0 - t
+            d = _border(P[k], None if w is None else w[k], axis, end, tt)
+            derivs.append(d)
+            tangents.append(d.bv if axis == 0 else d.bu)
+        stacked = type(derivs[0])(*(np.stack([getattr(d, f) for d in derivs]) for f in derivs[0]._fields))
+        sides.append((stacked, np.stack(tangents)))
+    meta = [("patch border", None, None, (found[0][0], found[1][0]), None) for found in pairs]
+    return _edges(meta, sides[0][0], sides[1][0], sides[0][1], sides[1][1], tol, size)
 
 
 def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None):

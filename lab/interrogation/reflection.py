@@ -371,7 +371,7 @@ def split_triangles(A, T, f, mask=None):
     edges = np.concatenate([e1, e2[~has_zero]])
     edges.sort(axis=1)
     keys = edges[:, 0].astype(np.int64) * k + edges[:, 1]
-    ukeys, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
     lo, hi = edges[first, 0], edges[first, 1]
     s = f[lo] / (f[lo] - f[hi])
     newA = A[lo] + s[:, None] * (A[hi] - A[lo])

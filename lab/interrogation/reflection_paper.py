@@ -83,7 +83,7 @@ class _Vertices:
     def add(self, a, b, t, tag):
         """Ids of the points ``a + t (b - a)`` on edges (a, b); one point per (undirected edge, tag)."""
         ids = np.empty(len(a), dtype=np.int64)
-        new_rows, new_ids = [], []
+        new_rows = []
         for m, (i, j, s) in enumerate(zip(a.tolist(), b.tolist(), np.asarray(t, dtype=float).tolist())):
             key = (min(i, j), max(i, j), tag)
             if key not in self.cache:
@@ -107,7 +107,7 @@ class _Vertices:
 
 def _border_ratio(V, a, b):
     """Eqs. 5, 6: where on the edge a → b the border of a's stripe towards b's lies, as t in [0, 1]."""
-    face, phi, stripe, _ = V.labels
+    face, phi, _, _ = V.labels
     t = np.empty(len(a))
     same = face[a] == face[b]
     # on one face: φ is affine on the face's plane, so the ratio on the map is that of φ

@@ -23,6 +23,7 @@ family), 6 for a star and a monstar (three of each).
 """
 
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 
@@ -84,9 +85,12 @@ def traceless(d):
     s11 = e * a1 * a1
     s12 = a1 * (e * c2u + f * c2v)
     s22 = e * c2u * c2u + 2 * f * c2u * c2v + g * c2v * c2v
-    norm = lambda x: np.linalg.norm(x, axis=-1)  # noqa: E731
-    scale = np.abs(0.5 * (s11 + s22)) + (norm(buu) + 2 * norm(buv) + norm(bvv)) / (E + G)
+    scale = np.abs(0.5 * (s11 + s22)) + (_norm(buu) + 2 * _norm(buv) + _norm(bvv)) / (E + G)
     return 0.5 * (s11 - s22) + 1j * s12, 0.5 * (s11 + s22), scale
+
+
+def _norm(x):
+    return np.linalg.norm(x, axis=-1)
 
 
 def _z_at(surface, u, v):
@@ -96,7 +100,6 @@ def _z_at(surface, u, v):
 
 def _into_domain(surface, x):
     """Parameters wrapped in periodic directions and clipped to the domain otherwise."""
-    (u0, u1), (v0, v1) = surface.domain
     out = []
     for xi, (a, b), periodic in zip(x, surface.domain, surface.periodic):
         out.append(a + np.mod(xi - a, b - a) if periodic else np.clip(xi, a, b))
@@ -139,7 +142,7 @@ def umbilics(surface, *, n=64, rtol=UMBILIC_RTOL):
     su, sv = _spans(surface)
     uu = np.unique(np.concatenate([np.linspace(a, b, n + 1) for a, b in su]))
     vv = np.unique(np.concatenate([np.linspace(a, b, n + 1) for a, b in sv]))
-    z, H, scale = _z_at(surface, uu[:, None], vv[None, :])
+    z, _, scale = _z_at(surface, uu[:, None], vv[None, :])
     m = np.abs(z) / scale
     finite = np.isfinite(m)
     if np.mean(finite & (m <= rtol)) > 0.5:
@@ -190,7 +193,7 @@ def _spans(surface):
     out = []
     for k, (a, b) in zip((surface.knots_u, surface.knots_v), surface.domain):
         t = np.unique(k[(k >= a) & (k <= b)])
-        out.append(list(zip(t[:-1], t[1:])))
+        out.append(list(pairwise(t)))
     return out
 
 

@@ -60,7 +60,7 @@ def read_off(path):
     verts = np.array(tok[pos : pos + nv * per], dtype=float).reshape(nv, per)
     pos += nv * per
     faces = []
-    for _ in range(nf):
+    for _face in range(nf):
         k = int(tok[pos])
         faces.append(np.array(tok[pos + 1 : pos + 1 + k], dtype=int))
         pos += k + 1

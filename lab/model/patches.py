@@ -17,6 +17,7 @@ from ..geometry.colormaps import ColorMap, colors_for
 from ..geometry.curvature import CurvatureMode, curvature_values, zero_tolerance
 from ..geometry.derivatives import Derivatives, from_homogeneous
 from ..geometry.grids import NO_SEAMS, Seams
+from ..i18n import _
 
 __all__ = ["CORNER_U", "CORNER_V", "BezierPatch", "BezierPatches", "ColorMap", "CurvatureMode"]
 
@@ -151,7 +152,7 @@ class BezierPatch:
         self._owner.colors[self._index] = np.reshape(rgb, (2, 2, 3))
 
     def __repr__(self):
-        return f"<BezierPatch {self._index} of degree {self.degree}>"
+        return "<BezierPatch {}>".format(_("{index} of degree {degree}").format(index=self._index, degree=self.degree))
 
 
 class BezierPatches:
@@ -440,5 +441,5 @@ class BezierPatches:
         return new
 
     def __repr__(self):
-        kind = "rational " if self._w is not None else ""
-        return f"{type(self).__name__}({len(self)} {kind}patches of degree {self.degree})"
+        text = _("{n} rational patches of degree {degree}") if self._w is not None else _("{n} patches of degree {degree}")
+        return f"{type(self).__name__}({text.format(n=len(self), degree=self.degree)})"

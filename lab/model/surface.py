@@ -7,6 +7,8 @@ against each other and results carry the broadcast shape (plus a trailing
 coordinate axis for points and vectors).
 """
 
+from typing import ClassVar
+
 import numpy as np
 
 from ..geometry import bezier, bspline
@@ -16,6 +18,7 @@ from ..geometry import tensor as _tensor
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
 from ..geometry.grids import Seams
+from ..i18n import _
 from .patches import BezierPatches
 
 __all__ = ["BSplineSurface", "BezierSurface", "ParametricSurface", "Surface"]
@@ -40,7 +43,7 @@ class Surface:
     periodic = (False, False)
 
     #: Bytes per point that curvature, derivatives and meshes plan for (results and parameter copies).
-    BYTES_PER_POINT = {"curvature": 80, "derivatives": 200, "directions": 160}
+    BYTES_PER_POINT: ClassVar[dict] = {"curvature": 80, "derivatives": 200, "directions": 160}
 
     def _derivatives(self, u, v):  # pragma: no cover - abstract
         """Derivatives at checked parameters of any (equal) shape."""
@@ -324,8 +327,8 @@ class BezierSurface(_SplineSurface):
         return BezierPatches(self.control_points[None], w, grid_shape=(1, 1), seams=self.seams)
 
     def __repr__(self):
-        kind = "rational " if self.weights is not None else ""
-        return f"BezierSurface({kind}degree {self.degree})"
+        text = _("rational, degree {degree}") if self.weights is not None else _("degree {degree}")
+        return f"BezierSurface({text.format(degree=self.degree)})"
 
 
 class BSplineSurface(_SplineSurface):
@@ -385,14 +388,15 @@ class BSplineSurface(_SplineSurface):
 
     def to_bezier_patches(self):
         """One Bézier patch per non-empty knot span, as a :class:`lab.BezierPatches` (practical, section 5)."""
-        nets, w, iu, iv = self.bezier_nets()
+        nets, w, _, _ = self.bezier_nets()
         flat_w = None if w is None else w.reshape((-1,) + w.shape[2:])
         return BezierPatches(nets.reshape((-1,) + nets.shape[2:]), flat_w, grid_shape=nets.shape[:2], seams=self.seams)
 
     def __repr__(self):
         kind = "NURBS" if self.weights is not None else "B-spline"
         nu, nv = self.control_points.shape[:2]
-        return f"BSplineSurface({kind}, {nu}x{nv} control points, degree {self.degree})"
+        return "BSplineSurface({})".format(_("{kind}, {nu}x{nv} control points, degree {degree}").format(
+            kind=kind, nu=nu, nv=nv, degree=self.degree))
 
 
 class ParametricSurface(Surface):

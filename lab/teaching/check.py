@@ -15,7 +15,7 @@ from .report import Case, Report
 from .runner import DEFAULT_TIMEOUT, run_task
 from .tasks import TASKS
 
-__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "christoffel", "corner_derivatives", "curvatures", "curve_curvature", "derivative_nets", "f1", "f2", "f3", "focal_points", "fundamental_forms", "h", "reflect", "run", "signed_area", "start_velocity", "visualize_curvature", "warmup"]
+__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "christoffel", "corner_derivatives", "curvatures", "curve_curvature", "derivative_nets", "f1", "f2", "f3", "focal_points", "fundamental_forms", "h", "principal_directions", "reflect", "run", "signed_area", "start_velocity", "visualize_curvature", "warmup"]
 
 
 def run(task, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
@@ -52,3 +52,4 @@ reflect = _check("reflect")
 christoffel = _check("christoffel")
 start_velocity = _check("start_velocity")
 signed_area = _check("signed_area")
+principal_directions = _check("principal_directions")

@@ -11,6 +11,8 @@ import io
 
 import numpy as np
 
+from ..i18n import _
+
 __all__ = ["CLOSED_COLOR", "OPEN_COLOR", "PATH_COLOR", "isodistance_figure", "trimming_figure"]
 
 PATH_COLOR = "#1f3b73"  #: the paths (normal sections or geodesics)
@@ -58,7 +60,7 @@ def isodistance_figure(fan, curves, *, title=None, size=(10.0, 4.4), grid=41):
         ax2.plot(p.uv[:, 0], p.uv[:, 1], color=PATH_COLOR, lw=0.5)
     for pieces in curves:
         for piece in pieces:
-            style = dict(color=CLOSED_COLOR, lw=1.4) if piece.closed else dict(color=OPEN_COLOR, lw=1.2, ls="--")
+            style = {"color": CLOSED_COLOR, "lw": 1.4} if piece.closed else {"color": OPEN_COLOR, "lw": 1.2, "ls": "--"}
             ax3.plot(*piece.points.T, **style)
             ax2.plot(piece.uv[:, 0], piece.uv[:, 1], **style)
     P = surface.evaluate(*fan.origin)
@@ -68,8 +70,9 @@ def isodistance_figure(fan, curves, *, title=None, size=(10.0, 4.4), grid=41):
     ax3.set_box_aspect(np.maximum(extent, 0.05 * extent.max()))
     ax3.set(xlabel="x", ylabel="y", zlabel="z")
     (u0, u1), (v0, v1) = surface.domain
-    ax2.set(xlim=(u0, u1), ylim=(v0, v1), xlabel="u", ylabel="v", title="parameter domain")
-    ax2.set_aspect("equal" if abs((u1 - u0) - (v1 - v0)) < 1e-12 else "auto")
+    ax2.set(xlim=(u0, u1), ylim=(v0, v1), xlabel="u", ylabel="v", title=_("parameter domain"))
+    ax2.set_ylabel("v", rotation=0, labelpad=8)  # upright: a rotated "v" reads ">"
+    ax2.set_aspect("equal")  # one unit of u as long as one of v
     if title:
         fig.suptitle(title)
     fig.tight_layout()
@@ -114,9 +117,10 @@ def trimming_figure(trimmed, triangulation=None, *, title=None, size=(6.0, 5.0),
         ax.plot(closed[:, 0], closed[:, 1], color=color, lw=1.6)
         for i in np.linspace(0, len(loop), arrows, endpoint=False).astype(int):
             a, b = closed[i], closed[i + 1]
-            ax.annotate("", xy=a + 0.6 * (b - a), xytext=a, arrowprops=dict(arrowstyle="-|>", color=color, lw=1.2))
+            ax.annotate("", xy=a + 0.6 * (b - a), xytext=a, arrowprops={"arrowstyle": "-|>", "color": color, "lw": 1.2})
     (u0, u1), (v0, v1) = trimmed.domain
-    ax.set(xlim=(u0, u1), ylim=(v0, v1), xlabel="u", ylabel="v", aspect="equal")
-    ax.set_title(title or "trimming loops in the parameter domain")
+    ax.set(xlim=(u0, u1), ylim=(v0, v1), xlabel="u", aspect="equal")
+    ax.set_ylabel("v", rotation=0, labelpad=8)
+    ax.set_title(title or _("trimming loops in the parameter domain"))
     fig.tight_layout()
     return _png(fig)

@@ -20,23 +20,23 @@ __all__ = ["PICTURES", "main"]
 PICTURES = [
     ("practical_gaussian_linear.png",
      "--surface practical --curvature gaussian --color-map linear --depth 1 --edges",
-     "The practical's setting: its B-spline surface as 7 × 7 Bézier patches refined once (patch borders drawn), "
-     "Gaussian curvature with the linear map h∘f2. The bump's top (K ≈ 37) takes the red end of the range, so "
-     "everything else, K from −1.2 to about 1, is blue."),
+     ("The practical's setting: its B-spline surface as 7 × 7 Bézier patches refined once (patch borders drawn), "
+      "Gaussian curvature with the linear map h∘f2. The bump's top (K ≈ 37) takes the red end of the range, so "
+      "everything else, K from −1.2 to about 1, is blue.")),
     ("practical_gaussian_signed_log.png",
      "--surface practical --curvature gaussian --color-map signed-log --depth 3",
-     "The same surface refined three times, with the signed-logarithmic map: the elliptic top of the bump (red to "
-     "yellow), hyperbolic zones on both sides of its foot (cyan, K ≈ −1), and |K| below 0.1 everywhere else "
-     "(green, yellow-green where slightly positive)."),
+     ("The same surface refined three times, with the signed-logarithmic map: the elliptic top of the bump (red to "
+      "yellow), hyperbolic zones on both sides of its foot (cyan, K ≈ −1), and |K| below 0.1 everywhere else "
+      "(green, yellow-green where slightly positive).")),
     ("gallery/practical_gaussian_classification.png",
      "--surface practical --curvature gaussian --color-map classification --depth 3",
-     "Classification by the sign of K (h∘f3): elliptic (red) on the bump's top and in two gently convex regions, "
-     "one behind the bump and one in front of it; hyperbolic (blue) everywhere else; the parabolic lines lie on "
-     "the red–blue borders."),
+     ("Classification by the sign of K (h∘f3): elliptic (red) on the bump's top and in two gently convex regions, "
+      "one behind the bump and one in front of it; hyperbolic (blue) everywhere else; the parabolic lines lie on "
+      "the red–blue borders.")),
     ("gallery/practical_mean_symmetric.png",
      "--surface practical --curvature mean --color-map symmetric --depth 3",
-     "Mean curvature H with the zero-centred map (green at H = 0): only the bump's top stands out. The sign of H, "
-     "and so the end of the scale it takes, follows the orientation of the normal N = b_u × b_v / |b_u × b_v|."),
+     ("Mean curvature H with the zero-centred map (green at H = 0): only the bump's top stands out. The sign of H, "
+      "and so the end of the scale it takes, follows the orientation of the normal N = b_u × b_v / |b_u × b_v|.")),
     ("gallery/torus_gaussian_classification.png",
      "--surface torus --curvature gaussian --color-map classification --depth 3",
      "Torus: elliptic outside (red), hyperbolic inside (blue), parabolic circles on top and bottom (green)."),
@@ -48,12 +48,12 @@ PICTURES = [
      "Car hood (Dill's figure 9), mean curvature in five bands: the crease is the narrow band of strong curvature."),
     ("gallery/catenoid_gaussian_dill.png",
      "--surface catenoid --curvature gaussian --color-map dill --vmin -1 --vmax 0 --depth 2",
-     "Catenoid (Dill's figure 8), seen from above into its waist: K from −1 at the waist (blue) to nearly 0 on the "
-     "flaring rims (red); H = 0 everywhere."),
+     ("Catenoid (Dill's figure 8), seen from above into its waist: K from −1 at the waist (blue) to nearly 0 on the "
+      "flaring rims (red); H = 0 everywhere.")),
     ("gallery/monkey-saddle_gaussian_symmetric.png",
      "--surface monkey-saddle --curvature gaussian --color-map symmetric --depth 3",
-     "Monkey saddle: K < 0 everywhere except at the flat point in the middle (green), most negative on a ring "
-     "around it."),
+     ("Monkey saddle: K < 0 everywhere except at the flat point in the middle (green), most negative on a ring "
+      "around it.")),
 ]
 
 
@@ -65,15 +65,16 @@ def main(argv=None):
     args = parser.parse_args(argv)
     out = Path(args.out)
     (out / "gallery").mkdir(parents=True, exist_ok=True)
-    lines = ["# Gallery", "", "Made by `make docs` (`python -m lab.view.gallery`); each picture is one "
-             "`curvature-lab render` call, written under it.", ""]
+    intro = "Made by `make docs` (`python -m lab.view.gallery`); each picture is one `curvature-lab render` call, " \
+            "written under it."
+    lines = ["# Gallery", "", intro, ""]
     for name, options, caption in PICTURES:
         if args.only and args.only not in name:
             continue
         path = out / name
         command = [sys.executable, "-m", "lab.cli", "render", *options.split(), "--window-size", args.size, "--quiet",
                    "-o", str(path)]
-        result = subprocess.run(command, capture_output=True, text=True)
+        result = subprocess.run(command, capture_output=True, text=True, check=False)
         if result.returncode:
             print(result.stderr, file=sys.stderr)
             return result.returncode

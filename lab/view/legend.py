@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry import colormaps
-from ..i18n import N_, _
+from ..i18n import N_, _, decimal
 
 __all__ = ["H_STOPS", "Legend", "format_values", "legend", "map_range", "measure_title", "nice_ticks"]
 
@@ -48,7 +48,8 @@ def measure_title(measure, *, long=True):
 
 
 def _minus(text):
-    return text.replace("-", "−")
+    """A label as people read it: a real minus sign, the decimal comma in German."""
+    return decimal(text.replace("-", "−"))
 
 
 def nice_ticks(lo, hi, n=5):
@@ -60,7 +61,7 @@ def nice_ticks(lo, hi, n=5):
     power = 10.0 ** math.floor(math.log10(raw))
     step = next((m * power for m in (1, 2, 2.5, 5, 10) if m * power >= raw * 0.999), 10 * power)
     first = math.ceil(lo / step - 1e-9) * step
-    ticks = first + step * np.arange(int(math.floor((hi - first) / step + 1e-9)) + 1)
+    ticks = first + step * np.arange(math.floor((hi - first) / step + 1e-9) + 1)
     ticks[np.abs(ticks) < step * 1e-9] = 0.0
     return ticks
 
@@ -183,7 +184,7 @@ class Legend:
 
 
 def _css(rgb):
-    r, g, b = (int(round(255 * float(x))) for x in rgb)
+    r, g, b = (round(255 * float(x)) for x in rgb)
     return f"rgb({r},{g},{b})"
 
 

@@ -7,6 +7,7 @@ keeps the colours true, a title, the colour bar or class legend in curvature
 units (:mod:`lab.view.legend`), padding, optional patch borders.
 """
 
+import dataclasses
 import io
 import os
 
@@ -17,6 +18,7 @@ from ..interrogation.reflection import VIEW_DIRECTION
 from . import style
 from .legend import Legend
 from .legend import legend as make_legend
+from ..model.patches import BezierPatches
 
 __all__ = [
     "VIEW_DIRECTION",
@@ -28,6 +30,8 @@ __all__ = [
     "screenshot",
     "set_camera",
     "show",
+    "show_row",
+    "stored_legend",
 ]
 
 
@@ -69,8 +73,6 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
     """A curvature mesh for patches, a surface or a mesh, and the legend its colours have (or None)."""
     from .. import mesh as _mesh
     from ..geometry.curvature import CurvatureMode, zero_tolerance
-    from ..model.patches import BezierPatches
-
     options = dict(map_options or {})
     coloured = curvature is not None and color_map is not None
     if isinstance(obj, (str, os.PathLike)):  # a file written for geomview, read back with its colours
@@ -88,7 +90,7 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
         mesh = _mesh.surface_mesh(obj, n, n, curvature, color_map, **options)
     else:
         raise TypeError(f"show expects BezierPatches, a lab surface, a pyvista.PolyData or a geomview file; got {type(obj).__name__}")
-    legend = None
+    legend = stored_legend(obj) if isinstance(obj, BezierPatches) and not coloured else None
     if coloured and "values" in mesh.point_data:
         mode = CurvatureMode(curvature).value
         name = color_map.value if hasattr(color_map, "value") else str(color_map)
@@ -96,6 +98,56 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
         legend = make_legend(mode, name, np.asarray(mesh.point_data["values"]), options=options,
                              tol=zero_tolerance(mode, size))
     return mesh, legend
+
+
+def _stored_measure(patches, values):
+    """Which curvature the stored corner values are (``"gaussian"``, ``"mean"``, ``"k1"``, ``"k2"``), or None."""
+    exact = patches.corner_curvature()
+    finite = np.isfinite(values)
+    for name, field in (("gaussian", "K"), ("mean", "H"), ("k1", "k1"), ("k2", "k2")):
+        ref = np.asarray(getattr(exact, field), dtype=float)
+        if ref.shape != values.shape:
+            return None
+        scale = float(np.nanmax(np.abs(ref))) if np.isfinite(ref).any() else 0.0
+        ok = finite & np.isfinite(ref)
+        if ok.any() and np.all(np.abs(values[ok] - ref[ok]) <= 1e-6 * scale + 1e-12):
+            return name
+    return None
+
+
+def stored_legend(patches):
+    """The colour bar of the colours stored in ``patches`` (by a ``visualize_curvature``, the student's or the library's).
+
+    The measure is recognised from the stored values (against the exact corner curvature), the map from the
+    colours: h∘f2 (linear over the stored range), h∘f1 (cut to [0, 1]), h∘f3 (classification) or one of the
+    library's designs (symmetric, signed-log, percentile, Dill's bands), whichever reproduces them; colours of
+    another map get the ramp h over the stored range with a note saying so.
+    None when the patches have no colours or no stored values.
+    """
+    from ..geometry import colormaps
+    from ..geometry.curvature import zero_tolerance
+    from ..i18n import _
+
+    colors = np.asarray(patches.colors, dtype=float)
+    values = np.asarray(patches.curvature, dtype=float)
+    finite = np.isfinite(values)
+    if not np.all(np.isfinite(colors)) or not finite.any():
+        return None
+    measure = _stored_measure(patches, values)
+    tol = zero_tolerance(measure or "gaussian", patches.size)
+    found = None
+    for name in ("linear", "cut", "classification", "symmetric", "signed-log", "percentile", "dill"):
+        want = colormaps.colors_for(values, name, tol=tol)
+        if np.all(np.abs(want - colors)[finite] <= 0.02):
+            found = name
+            break
+    chosen = make_legend(measure or "gaussian", found or "linear", values[finite], tol=tol)
+    changes = {}
+    if measure is None:
+        changes["title"] = _("values stored with set_curvature")
+    if found is None:
+        changes["note"] = _("your own colours: the bar shows h over the range of the stored values")
+    return dataclasses.replace(chosen, **changes) if changes else chosen
 
 
 def _net_lines(obj):
@@ -230,17 +282,53 @@ def save(obj, path, curvature=None, color_map=None, **options):
     return image
 
 
-def show(obj, curvature=None, color_map=None, *, window_size=(640, 480), **options):
-    """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
+#: the size of a notebook picture: as wide as a JupyterLab cell on a laptop (wider pictures shrink to the cell)
+SHOW_SIZE = (960, 600)
 
-    Takes the arguments of :func:`picture`; the picture is 640 x 480 unless ``window_size`` says otherwise.
-    """
+
+def _image(array):
     from IPython.display import Image
     from PIL import Image as PILImage
 
     buf = io.BytesIO()
-    PILImage.fromarray(picture(obj, curvature, color_map, window_size=window_size, **options)).save(buf, format="PNG")
+    PILImage.fromarray(array).save(buf, format="PNG")
     return Image(data=buf.getvalue(), format="png")
+
+
+def show(obj, curvature=None, color_map=None, *, window_size=SHOW_SIZE, **options):
+    """A picture of patches, a surface or a mesh for a notebook (an ``IPython.display.Image``, PNG).
+
+    Takes the arguments of :func:`picture`; the picture is :data:`SHOW_SIZE` unless ``window_size`` says otherwise.
+    """
+    return _image(picture(obj, curvature, color_map, window_size=window_size, **options))
+
+
+def show_row(objects, titles=None, *, window_size=(1200, 420), **options):
+    """Pictures side by side in one image (wider than the cell, so that it shrinks to fill it), each with its own
+    title and legend.
+
+    ``objects`` are what :func:`picture` takes; ``titles`` one per object; ``options`` (``curvature``,
+    ``color_map``, ``direction``, ``camera`` …) apply to all.  Without ``direction`` or ``camera`` all pictures
+    look from the direction the first one is drawn from: one camera for the row.
+    """
+    objects = list(objects)
+    if not objects:
+        raise ValueError("show_row needs at least one object to show; got none")
+    titles = list(titles) if titles is not None else [None] * len(objects)
+    if len(titles) != len(objects):
+        raise ValueError(f"titles must give one title per object ({len(objects)}); got {len(titles)}")
+    width = int(window_size[0]) // len(objects)
+    if options.get("direction") is None and options.get("camera") is None:
+        meshes = [o for o in objects if isinstance(o, pv.PolyData)]
+        if any("box_lo" in m.field_data or "light_origin" in m.field_data for m in meshes):
+            options["direction"] = VIEW_DIRECTION  # a view-dependent picture in the row: its eye for all
+        else:
+            first = (pv.PolyData(np.asarray(objects[0].control_points, dtype=float).reshape(-1, 3))
+                     if isinstance(objects[0], BezierPatches) else _as_mesh(objects[0], None, None, 1, 16)[0])
+            options["direction"] = style.view_direction(first, None, None, width / int(window_size[1]))
+    parts = [picture(obj, window_size=(width, int(window_size[1])), title=title, **options)
+             for obj, title in zip(objects, titles)]
+    return _image(np.hstack(parts))
 
 
 def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=None):

@@ -73,7 +73,7 @@ def _triangles(mesh, limit=20000):
     tri = mesh if mesh.is_all_triangles else mesh.triangulate()
     faces = np.asarray(tri.faces).reshape(-1, 4)[:, 1:] if tri.n_cells else np.zeros((0, 3), int)
     if len(faces) > limit:
-        faces = faces[:: int(math.ceil(len(faces) / limit))]
+        faces = faces[:: math.ceil(len(faces) / limit)]
     return np.asarray(tri.points)[faces]
 
 
@@ -149,7 +149,7 @@ def fit_camera(plotter, mesh, direction=None, *, azimuth=None, elevation=None, m
     camera.up = tuple(up)
     points = np.asarray(mesh.points, dtype=float)
     if len(points) > 20000:
-        points = points[:: int(math.ceil(len(points) / 20000))]
+        points = points[:: math.ceil(len(points) / 20000)]
     renderer = plotter.renderer
     for _ in range(4):
         renderer.ResetCameraClippingRange()
@@ -204,8 +204,8 @@ class Frame:
         self.size = (W, H)
         self.font = max(8.0, 12.5 * min(W / 1024, H / 768) ** 0.7)
         px = self.font * 100 / 72
-        pad = int(round(0.02 * min(W, H))) + 2
-        title_h = int(round(self.font * 2.6)) if title else 0
+        pad = round(0.02 * min(W, H)) + 2
+        title_h = round(self.font * 2.6) if title else 0
         if legend is None:
             legend_w = 0
         else:
@@ -216,7 +216,7 @@ class Frame:
                 body = 2.6 * px + labels
             else:
                 body = 2.2 * px + max(_text_width(label, self.font) for label, _ in legend.classes)
-            legend_w = int(round(min(max(heading, body) + 1.5 * px, 0.4 * W)))
+            legend_w = round(min(max(heading, body) + 1.5 * px, 0.45 * W))
         self.pad = pad
         self.title = (pad, pad, W - 2 * pad, title_h)
         self.view = (pad, pad + title_h, W - 2 * pad - legend_w, H - 2 * pad - title_h)
@@ -225,7 +225,7 @@ class Frame:
 
 def bar_box(frame):
     """Where the colour bar goes in a frame with a bar legend: (x, y, width, height) in pixels from the top left."""
-    lx, ly, lw, lh = frame.legend
+    lx, ly, _lw, lh = frame.legend
     px = frame.font * 100 / 72
     bar_h = 0.6 * lh
     return lx + 0.6 * px, ly + (lh - bar_h) / 2 + px, 1.1 * px, bar_h
@@ -249,12 +249,12 @@ def compose(image, frame, *, title=None, legend=None):
     dpi = 100
     fig = Figure(figsize=(W / dpi, H / dpi), dpi=dpi, facecolor="white")
     canvas = FigureCanvasAgg(fig)
-    x, y, w, h = frame.view
+    x, y, _w, _h = frame.view
     img = np.asarray(image)[..., :3]
     fig.figimage(img, xo=x, yo=H - y - img.shape[0], origin="upper", zorder=0)
     fs = frame.font
     if title:
-        tx, ty, tw, th = frame.title
+        _tx, ty, _tw, th = frame.title
         fig.text(0.5, 1 - (ty + th * 0.5) / H, title, ha="center", va="center", fontsize=fs * 1.25, color="#1f2328")
     if legend is not None:
         lx, ly, lw, lh = frame.legend

@@ -314,7 +314,7 @@ def _shared_edges(shape, face_map, converted, domains):
                     uvs.append(np.array([[q.X(), q.Y()] for q in (sas.ValueOfUV(gp_Pnt(*p), 1e-9) for p in points)]))
                 else:
                     uvs.append(_values2d(BRepAdaptor_Curve2d(edge, f), t))
-        except Exception:  # noqa: S112 - an edge OpenCASCADE cannot evaluate is not a shared edge of the model
+        except Exception:  # noqa: BLE001, S112 - an edge OpenCASCADE cannot evaluate is not a shared edge of the model
             continue
         uvs = [_clip(uv, domains[i]) for uv, (i, _) in zip(uvs, owners)]
         edges.append(Edge(len(edges), tuple(i for i, _ in owners), points, tuple(uvs), t))
@@ -337,10 +337,10 @@ def read_occ(path, name=None):
         f = _cast("Face")(face_map.FindKey(index + 1))
         try:
             face, bs = _face(index, f)
-        except Exception as exc:  # OCCT raises Standard_Failure subclasses; every failure is reported by face
+        except Exception as exc:  # noqa: BLE001 - OCCT raises Standard_Failure subclasses; every failure is reported by face
             try:
                 kind = _kind(BRep_Tool.Surface_s(f))
-            except Exception:
+            except Exception:  # noqa: BLE001 - the kind is only for the report
                 kind = "unknown"
             problems.append(Problem(index, kind, f"{type(exc).__name__}: {exc}"))
             continue

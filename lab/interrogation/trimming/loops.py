@@ -24,6 +24,8 @@ which also gives the exact curvature at every vertex (:func:`lab.mesh.trimmed_me
 Only NumPy, SciPy and (inside :func:`triangulate`) ``triangle`` are imported here.
 """
 
+from itertools import pairwise
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -149,7 +151,7 @@ class BSplineLoop:
         tol = float(tol)
         if not tol > 0:
             raise ValueError(f"tol must be positive; got {tol}")
-        t = np.concatenate([np.linspace(a, b, 5)[:-1] for a, b in zip(bp[:-1], bp[1:])] + [bp[-1:]])
+        t = np.concatenate([np.linspace(a, b, 5)[:-1] for a, b in pairwise(bp)] + [bp[-1:]])
         X = self.evaluate(t)
         while True:
             tm = 0.5 * (t[:-1] + t[1:])

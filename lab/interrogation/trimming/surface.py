@@ -3,6 +3,7 @@
 import numpy as np
 
 from ...geometry import validation as _v
+from ...i18n import _
 from ...mesh.trimmed import trimmed_mesh
 from .loops import TRIM_RTOL, distance_to_loop, point_in_loop, signed_area
 from .triangulation import _domain_scale, triangulate, validate_loops
@@ -120,7 +121,8 @@ class TrimmedSurface:
                             curvature_mode=curvature_mode, color_map=color_map)
 
     def __repr__(self):
-        return f"TrimmedSurface({self.surface!r}, outer loop of {len(self.outer)} points, {len(self.holes)} holes)"
+        return _("TrimmedSurface({surface}, outer loop of {n} points, {holes} holes)").format(
+            surface=repr(self.surface), n=len(self.outer), holes=len(self.holes))
 
 
 def trimmed(surface, outer=None, holes=(), *, tol=None):

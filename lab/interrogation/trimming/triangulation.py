@@ -5,6 +5,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...geometry import validation as _v
+from ...i18n import _, decimal
 from .loops import (
     TRIM_RTOL,
     BSplineLoop,
@@ -125,19 +126,17 @@ def validate_loops(outer, holes, domain, tol=None):
     if abs(area) <= tiny:
         raise ValueError("outer loop has zero area")
     if area < 0:
-        raise ValueError(
-            f"outer loop runs clockwise (signed area {area:.6g}); the outer loop must run counter-clockwise: "
-            "reverse it (loop[::-1], or .reversed() for a BSplineLoop)"
-        )
+        raise ValueError(_(
+            "outer loop runs clockwise (signed area {area}); the outer loop must run counter-clockwise: "
+            "reverse it (loop[::-1], or .reversed() for a BSplineLoop)").format(area=_number(area)))
     for n, h in enumerate(H):
         a = signed_area(h)
         if abs(a) <= tiny:
             raise ValueError(f"hole {n} has zero area")
         if a > 0:
-            raise ValueError(
-                f"hole {n} runs counter-clockwise (signed area {a:.6g}); holes must run clockwise: "
-                "reverse it (loop[::-1], or .reversed() for a BSplineLoop)"
-            )
+            raise ValueError(_(
+                "hole {n} runs counter-clockwise (signed area {area}); holes must run clockwise: "
+                "reverse it (loop[::-1], or .reversed() for a BSplineLoop)").format(n=n, area=_number(a)))
     for n, h in enumerate(H):
         pairs, where = loops_intersections(h, O, scale)
         if len(pairs):
@@ -163,6 +162,12 @@ def validate_loops(outer, holes, domain, tol=None):
                         f"hole {inner} lies inside hole {outer_}; holes must not nest (islands are not supported)"
                     )
     return O, H
+
+
+
+def _number(x):
+    """A number in a message, with the decimal comma in German."""
+    return decimal(f"{x:.6g}")
 
 
 # -- triangulation ------------------------------------------------------------------

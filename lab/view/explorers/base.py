@@ -50,7 +50,7 @@ import numpy as np
 import pyvista as pv
 
 from ...geometry.curvature import DegeneratePointWarning
-from ...i18n import N_, _, language
+from ...i18n import N_, _
 from .. import style
 from ..render import configure_offscreen
 from .controls import LABEL_WIDTH, SHORT_LABEL_WIDTH, _dropdown, _layout, fit_labels, style_for  # noqa: F401
@@ -141,7 +141,7 @@ def _current_cell():
         parent = shell.kernel.get_parent("shell") if shell is not None and hasattr(shell, "kernel") else None
         cell = (parent or {}).get("metadata", {}).get("cellId")
         return (cell, shell.execution_count) if cell else None
-    except Exception:  # pragma: no cover - any other front end
+    except Exception:  # noqa: BLE001  # pragma: no cover - any other front end raises anything
         return None
 
 
@@ -333,7 +333,7 @@ class Explorer:
             self._say(_("not implemented yet: {error}").format(error=exc), "note")
         except _Note as note:
             self._say(str(note), "note")
-        except Exception as exc:  # shown to the user, never a traceback in the notebook
+        except Exception as exc:  # noqa: BLE001 - shown to the user, never a traceback in the notebook
             self._say(f"{type(exc).__name__}: {exc}", "error")
             self.last_error = traceback.format_exc()
         finally:
@@ -450,7 +450,7 @@ class Explorer:
                 self._view, self._viewer = _show_live(self.plotter, self.backend, aspect=self.window_size)
                 self.refresh()
                 return self._view
-            except Exception as exc:  # no trame server here: fall back to pictures
+            except Exception as exc:  # noqa: BLE001 - no trame server here: fall back to pictures
                 self.live = False
                 self._static_note = _("live 3D view unavailable ({error}); showing pictures").format(
                     error=f"{type(exc).__name__}: {exc}")

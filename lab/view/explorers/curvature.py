@@ -9,7 +9,7 @@ import pyvista as pv
 from ... import mesh as _mesh
 from ...geometry import colormaps
 from ...geometry.curvature import Curvature, CurvatureMode, curvature_values, zero_tolerance
-from ...i18n import N_, _
+from ...i18n import N_, _, parse_number
 from ...model.patches import BezierPatches
 from .. import legend as _legend
 from .. import style
@@ -289,7 +289,7 @@ class CurvatureExplorer(Explorer):
             return
         lo, hi = self._manual or self.clim
         try:
-            typed = (float(self.range_min.value.replace("−", "-")), float(self.range_max.value.replace("−", "-")))
+            typed = (parse_number(self.range_min.value), parse_number(self.range_max.value))
         except ValueError:
             self._show_readouts()
             raise ValueError(_("min and max must be numbers, e.g. -0.5 and 2")) from None

@@ -2,6 +2,7 @@
 
 import html
 import warnings
+from typing import ClassVar
 
 import ipywidgets as W
 import numpy as np
@@ -9,7 +10,7 @@ import pyvista as pv
 
 from ... import mesh as _mesh
 from ...geometry.curvature import DegeneratePointWarning
-from ...i18n import N_, _
+from ...i18n import N_, _, decimal
 from ...interrogation.geodesics import Fan, geodesic_fan, normal_section_fan, polar_isodistance
 from ...interrogation.meshes import as_curvature_mesh, focal_surface, isophotes, reflection_lines, stripe_mapping
 from ...interrogation.reflection import VIEW_DIRECTION
@@ -18,6 +19,9 @@ from .. import style
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
 
 __all__ = ["FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"]
+
+#: how far the geodesic explorer lifts its lines off the surface, relative to the surface's size
+LIFT = 3e-3
 
 
 def _slider(cls, description, **kwargs):
@@ -29,7 +33,7 @@ class FocalExplorer(Explorer):
     """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (seeds/002, section 4)."""
 
     title = N_("focal surface explorer")
-    FUNCTIONS = {N_("H  mean"): "mean", N_("K  Gaussian"): "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1",
+    FUNCTIONS: ClassVar[dict] = {N_("H  mean"): "mean", N_("K  Gaussian"): "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1",
                  "κ2": "k2"}
 
     def __init__(self, surface, *, scale=None, resolution=48, window_size=(800, 500), live=None, backend=None):
@@ -91,7 +95,7 @@ class ReflectionExplorer(Explorer):
 
     title = N_("reflection explorer")
     camera_direction = VIEW_DIRECTION  # reflections depend on the eye: look from the one they are computed for
-    KINDS = {N_("stripe box mapping"): "stripes", N_("reflection lines (light lines)"): "lines",
+    KINDS: ClassVar[dict] = {N_("stripe box mapping"): "stripes", N_("reflection lines (light lines)"): "lines",
              N_("isophotes"): "isophotes"}
 
     def __init__(self, surface, *, resolution=64, window_size=(800, 500), live=None, backend=None):
@@ -198,7 +202,7 @@ class GeodesicExplorer(Explorer):
     """
 
     title = N_("geodesic explorer")
-    KINDS = {N_("geodesics"): "geodesic", N_("normal sections"): "normal-section"}
+    KINDS: ClassVar[dict] = {N_("geodesics"): "geodesic", N_("normal sections"): "normal-section"}
     # paths integrated per step: progress, and a newer request cancels between steps.  The vectorised integrator
     # costs about the same per call whatever the number of paths, so steps are large (2 x 20 paths: +75%).
     CHUNK = 40
@@ -305,9 +309,10 @@ class GeodesicExplorer(Explorer):
         iso = polar_isodistance(fan, distances)
         self.isodistance = iso
         self.start_mesh.points = self.source.evaluate(*uv0)[None]
-        self.paths_mesh.copy_from(_polylines([p.points[p.s <= length * (1 + 1e-9)] for p in fan]), deep=True)
-        curves = [piece.points for pieces in iso for piece in pieces if len(piece.points) > 1]
-        self.iso_mesh.copy_from(_polylines(curves), deep=True)
+        paths = [(p.points[keep], p.uv[keep]) for p in fan for keep in [p.s <= length * (1 + 1e-9)]]
+        self.paths_mesh.copy_from(_polylines(self._lifted(paths)), deep=True)
+        curves = [(piece.points, piece.uv) for pieces in iso for piece in pieces if len(piece.points) > 1]
+        self.iso_mesh.copy_from(_polylines(self._lifted(curves)), deep=True)
         if self.paths_actor is None and self.paths_mesh.n_points:
             self.paths_actor = self.plotter.add_mesh(self.paths_mesh, color="#1f3b73", line_width=1.5)
         if self.iso_actor is None and self.iso_mesh.n_points:
@@ -324,14 +329,39 @@ class GeodesicExplorer(Explorer):
         if note:
             raise _Note(note)
 
+    def _lifted(self, curves):
+        """Each curve on the surface twice, lifted a little off it along +N and −N.
+
+        A line drawn exactly on a surface fights with it in the depth buffer and looks dashed where the
+        triangles bulge over it (near the edges, at grazing view); the browser's renderer (vtk.js) knows no
+        depth offset, so the lines move instead: by 0.3% of the surface's size, invisible at any zoom that shows
+        the whole surface, and one of the two copies faces the eye from either side.
+        """
+        size = float(np.linalg.norm(np.ptp(np.asarray(self.surface_mesh.points), axis=0))) or 1.0
+        out = []
+        for points, uv in curves:
+            if len(points) < 2:
+                continue
+            D = self.source.derivatives(uv[:, 0], uv[:, 1])
+            N = np.cross(D.bu, D.bv)
+            N /= np.maximum(np.linalg.norm(N, axis=-1, keepdims=True), 1e-300)
+            N = np.nan_to_num(N)
+            out += [points + LIFT * size * N, points - LIFT * size * N]
+        return out
+
     def _domain_svg(self, fan, iso, length):
         """The paths and curves in the parameter domain as SVG (drawn by the browser, crisp at any width)."""
         (u0, u1), (v0, v1) = self.source.domain
-        W_, H_, m = 640.0, 260.0, 34.0
+        H_, m = 300.0, 34.0
+        # one unit of u as long as one of v: a circle in the domain is drawn round (the box is square on a square domain)
+        ph = H_ - 2 * m
+        pw = min(ph * (u1 - u0) / (v1 - v0), 3 * ph)
+        W_ = pw + 2 * m + 40.0
+        left = m + 20.0
 
-        def xy(uv):  # the box spans x in [m, W - m], y in [m - 10, H - m - 10] (v upwards)
-            x = m + (uv[:, 0] - u0) / (u1 - u0) * (W_ - 2 * m)
-            y = H_ - m - 10 - (uv[:, 1] - v0) / (v1 - v0) * (H_ - 2 * m)
+        def xy(uv):  # the box spans x in [left, left + pw], y in [m - 10, m - 10 + ph] (v upwards)
+            x = left + (uv[:, 0] - u0) / (u1 - u0) * pw
+            y = H_ - m - 10 - (uv[:, 1] - v0) / (v1 - v0) * ph
             return " ".join(f"{a:.1f},{b:.1f}" for a, b in zip(x, y))
 
         parts = []
@@ -342,17 +372,17 @@ class GeodesicExplorer(Explorer):
             for piece in pieces:
                 parts.append(f'<polyline points="{xy(piece.uv)}" fill="none" stroke="#d62728" stroke-width="1.6"/>')
         ox, oy = xy(np.asarray(fan.origin, dtype=float)[None]).split(",")
-        box = (f'<rect x="{m}" y="{m - 10}" width="{W_ - 2 * m}" height="{H_ - 2 * m}" fill="none" '
+        box = (f'<rect x="{left}" y="{m - 10}" width="{pw}" height="{ph}" fill="none" '
                'stroke="#57606a" stroke-width="1"/>')
         labels = "".join(
-            f'<text x="{x}" y="{y}" font-size="11" fill="#1f2328" text-anchor="{a}">{html.escape(t)}</text>'
-            for x, y, a, t in ((m, H_ - m + 4, "middle", f"{u0:g}"), (W_ - m, H_ - m + 4, "middle", f"{u1:g}"),
-                               (W_ / 2, H_ - m + 4, "middle", "u"), (m - 4, H_ - m - 10, "end", f"{v0:g}"),
-                               (m - 4, m - 6, "end", f"{v1:g}"), (m - 12, H_ / 2 - 10, "end", "v"),
-                               (W_ / 2, 14, "middle", _("parameter domain"))))
-        clip = (f'<clipPath id="lab-domain-clip"><rect x="{m}" y="{m - 10}" width="{W_ - 2 * m}" '
-                f'height="{H_ - 2 * m}"/></clipPath>')
-        return (f'<svg viewBox="0 0 {W_:.0f} {H_:.0f}" style="width:100%;max-width:900px;height:auto;display:block;'
-                f'margin:0 auto" xmlns="http://www.w3.org/2000/svg"><defs>{clip}</defs>{box}'
+            f'<text x="{x}" y="{y}" font-size="11" fill="#1f2328" text-anchor="{a}">{html.escape(decimal(t))}</text>'
+            for x, y, a, t in ((left, H_ - m + 4, "middle", f"{u0:g}"), (left + pw, H_ - m + 4, "middle", f"{u1:g}"),
+                               (left + pw / 2, H_ - m + 8, "middle", "u"), (left - 4, H_ - m - 10, "end", f"{v0:g}"),
+                               (left - 4, m - 6, "end", f"{v1:g}"), (left - 14, H_ / 2 - 6, "end", "v"),
+                               (left + pw / 2, 14, "middle", _("parameter domain"))))
+        clip = (f'<clipPath id="lab-domain-clip"><rect x="{left}" y="{m - 10}" width="{pw}" '
+                f'height="{ph}"/></clipPath>')
+        return (f'<svg viewBox="0 0 {W_:.0f} {H_:.0f}" style="width:100%;max-width:{W_ * 1.4:.0f}px;height:auto;'
+                f'display:block;margin:0 auto" xmlns="http://www.w3.org/2000/svg"><defs>{clip}</defs>{box}'
                 f'<g clip-path="url(#lab-domain-clip)">{"".join(parts)}</g>'
                 f'<circle cx="{ox}" cy="{oy}" r="3" fill="black"/>{labels}</svg>')
