@@ -15,8 +15,8 @@ from pathlib import Path
 from tqdm import tqdm
 
 from .geometry import colormaps
-from .i18n import N_, _
 from .geometry.curvature import CurvatureMode
+from .i18n import N_, _
 from .model import surfaces
 
 OUTPUT_SUFFIXES = (".png", ".html", ".off", ".vtk", ".vtp", ".bez")
