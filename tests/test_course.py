@@ -412,3 +412,9 @@ def test_course_commands_help_in_the_instructors_language(verb, capsys):
     with i18n.using("de"), pytest.raises(SystemExit):
         cli.main(["--help"])
     assert "Aufgabenblatt" in capsys.readouterr().out
+
+
+def test_every_task_module_is_withheld_whole():
+    """A task module added later (e.g. tasks_smoothness.py) holds cases and answers too: withheld without a list."""
+    task_modules = {p.name for p in (ROOT / "lab" / "teaching").glob("tasks*.py")}
+    assert "tasks_smoothness.py" in task_modules and task_modules <= set(release.WHOLE_MODULES)
