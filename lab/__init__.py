@@ -50,6 +50,7 @@ MODULES = {
     "reflection": "lab.interrogation.reflection",
     "geodesics": "lab.interrogation.geodesics",
     "trimming": "lab.interrogation.trimming",
+    "models": "lab.interrogation.cad.models",
     "render": "lab.view.render",
     "figures": "lab.view.figures",
     "widgets": "lab.view.explorers",

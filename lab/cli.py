@@ -1,6 +1,6 @@
 """The ``curvature-lab`` command line.
 
-``curvature-lab render``: colour a named surface by curvature and write a
+``curvature-lab render``: colour a named surface (or a part read from a file, ``--file``) by curvature and write a
 picture (PNG), an interactive scene (HTML), a mesh (VTK/VTP, geomview OFF) or
 coloured Bézier patches for geomview (BEZ).
 """
@@ -36,13 +36,30 @@ def _render(args, parser):
     options = _map_options(args, parser)
     start = time.perf_counter()
     steps = 3 + args.depth
-    with tqdm(total=steps, desc=f"{args.surface}", unit="step", disable=args.quiet, file=sys.stderr) as bar, \
+    label = Path(args.file).name if args.file else args.surface
+    with tqdm(total=steps, desc=label, unit="step", disable=args.quiet, file=sys.stderr) as bar, \
             warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        bar.set_postfix_str("building surface")
-        surface = surfaces.REGISTRY[args.surface]()
+        bar.set_postfix_str("reading the file" if args.file else "building surface")
+        if args.file:
+            from .interrogation.cad import read
+
+            try:
+                surface = read(args.file)
+            except (OSError, ValueError, ImportError) as exc:
+                parser.error(str(exc))
+        else:
+            surface = surfaces.REGISTRY[args.surface]()
         bar.update(1)
-        if hasattr(surface, "to_bezier_patches"):
+        if args.file:
+            patches = None
+            n = 8 * 2**args.depth * args.resolution + 1
+            bar.update(args.depth)
+            bar.set_postfix_str(f"{len(surface.faces)} faces, each on a {n} x {n} grid")
+            mesh = surface.to_mesh(n, n, curvature_mode=args.curvature, color_map=args.color_map, **options)
+            for problem in surface.problems:
+                print(f"note: left out {problem}", file=sys.stderr)
+        elif hasattr(surface, "to_bezier_patches"):
             patches = surface.to_bezier_patches()
             for level in range(args.depth):
                 bar.set_postfix_str(f"refining to depth {level + 1}: {4 * len(patches)} patches")
@@ -69,7 +86,8 @@ def _render(args, parser):
             _mesh.write_off(mesh, out)
         elif suffix == ".bez":
             if patches is None:
-                parser.error(f"surface {args.surface!r} is analytic, not made of Bézier patches: no .bez export")
+                what = f"the part {label!r} is" if args.file else f"surface {label!r} is analytic,"
+                parser.error(f"{what} not made of Bézier patches: no .bez export")
             _mesh.write_cbez(patches, out)
         else:
             mesh.save(str(out))
@@ -114,7 +132,8 @@ def _title(args):
     from .view.legend import MEASURES
 
     name, symbol, _unit = MEASURES[args.curvature]
-    return f"{args.surface}: {name} {symbol}, {args.color_map} map, depth {args.depth}"
+    label = Path(args.file).name if args.file else args.surface
+    return f"{label}: {name} {symbol}, {args.color_map} map, depth {args.depth}"
 
 
 def _camera(text):
@@ -159,6 +178,8 @@ def build_parser():
     r.add_argument(
         "--color-map", default="linear", choices=list(colormaps.COLOR_MAPS), help=_("colour map (default: linear = h∘f2)")
     )
+    r.add_argument("--file", metavar="PART", help=_("a part from a file instead (STEP, IGES, BREP): each face on a "
+                   "(8·2^depth·resolution + 1)² grid in its trimmed region; see lab.read"))
     r.add_argument("--depth", type=int, default=1, help=_("subdivision depth: 4**depth patches per patch (default: 1)"))
     r.add_argument("--resolution", type=int, default=1, help=_("quads per patch edge in the mesh (default: 1)"))
     r.add_argument("--window-size", type=_window_size, default=(1024, 768), help=_("PNG size, e.g. 1024x768"))

@@ -173,3 +173,98 @@ def test_import_lab_does_not_import_opencascade():
     code = "import sys, lab\nlab.read, lab.Model\nprint('OCP' in sys.modules)\n"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+@needs_data
+def test_the_mesh_of_a_model_has_each_faces_exact_curvature_and_id(models):
+    model = models["occ/hammer.brep"]
+    mesh = model.to_mesh(8, 8, curvature_mode="mean", color_map="symmetric")
+    face_id = np.asarray(mesh.point_data["face"])
+    assert set(face_id) == {f.index for f in model.faces}
+    assert set(np.asarray(mesh.cell_data["face"])) == set(face_id)
+    for face in (model.faces[0], next(f for f in model.faces if f.reversed), next(f for f in model.faces if f.trim)):
+        mine = face_id == face.index
+        uv = np.asarray(mesh.point_data["uv"])[mine]
+        c = face.curvature(uv[:, 0], uv[:, 1])
+        np.testing.assert_allclose(np.asarray(mesh.point_data["H"])[mine], c.H, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(np.asarray(mesh.point_data["k1"])[mine], c.k1, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(np.asarray(mesh.points)[mine], face.surface.evaluate(uv[:, 0], uv[:, 1]),
+                                   rtol=0, atol=1e-9)
+        N = np.asarray(mesh.point_data["N"])[mine]
+        np.testing.assert_allclose(N, face.normal(uv[:, 0], uv[:, 1]), atol=1e-12)
+        if face.trim is not None:
+            assert np.all(face.trim.contains(uv[:, 0], uv[:, 1]))
+    # the triangles face the way of the face's normal
+    cells = mesh.regular_faces
+    P = np.asarray(mesh.points)
+    n = np.cross(P[cells[:, 1]] - P[cells[:, 0]], P[cells[:, 2]] - P[cells[:, 0]])
+    big = np.linalg.norm(n, axis=1) > 1e-8 * np.linalg.norm(n, axis=1).max()
+    agree = np.einsum("ij,ij->i", n, np.asarray(mesh.point_data["N"])[cells].mean(axis=1)) > 0
+    assert agree[big].mean() > 0.99
+    # one colour range over the whole model
+    assert "RGB" in mesh.point_data and mesh.point_data["RGB"].dtype == np.uint8
+
+
+@needs_data
+def test_named_models_and_a_missing_data_folder(monkeypatch, tmp_path):
+    assert lab.models.wing().kinds() == {"BSplineSurface": 4}
+    assert lab.models.impeller_path().name == "impeller.igs"
+    monkeypatch.setenv("LAB_OCC_DATA", str(tmp_path))
+    with pytest.raises(FileNotFoundError, match="occ/wing.brep: OpenCASCADE's sample part is missing; install"):
+        lab.models.wing()
+
+
+@needs_data
+def test_render_a_part_from_a_file(tmp_path):
+    from lab import cli
+
+    out = tmp_path / "wing.vtp"
+    assert cli.main(["render", "--file", str(DATA / "occ" / "wing.brep"), "--depth", "0", "--quiet", "-o", str(out)]) == 0
+    import pyvista as pv
+
+    mesh = pv.read(out)
+    assert mesh.n_points > 0 and {"K", "H", "face", "RGB"} <= set(mesh.point_data.keys())
+    with pytest.raises(SystemExit):
+        cli.main(["render", "--file", str(tmp_path / "none.step"), "--quiet", "-o", str(tmp_path / "x.png")])
+
+
+def test_the_teapot_has_32_patches_a_closed_bottom_and_degenerate_points():
+    teapot = lab.models.teapot()
+    assert len(teapot.faces) == 32 and teapot.problems == []
+    bottom = teapot.faces[28:]
+    body = [f.surface.control_points for f in teapot.faces[8:12]]
+    ring = np.concatenate([f.surface.control_points[-1] for f in bottom])
+    # the bottom's outer row is the body's lowest row (the pot is closed), its first row the centre
+    lowest = np.concatenate([P.reshape(-1, 3) for P in body])
+    assert all(np.min(np.linalg.norm(lowest - p, axis=1)) == 0 for p in ring)
+    assert all(np.all(f.surface.control_points[0] == f.surface.control_points[0, :1]) for f in bottom)
+    with pytest.warns(lab.DegeneratePointWarning):
+        c = bottom[0].curvature(0.0, 0.5)
+    assert c.degenerate and np.isfinite(c.K)
+
+
+def test_geomview_bezier_files(tmp_path):
+    P = np.random.default_rng(1).normal(size=(3, 2, 3))  # degree (2, 1)
+    rows = [" ".join(map(str, P[i, j])) for j in range(2) for i in range(3)]  # u varies fastest
+    (tmp_path / "a.bez").write_text("BEZ213\n" + "\n".join(rows) + "\nCBEZ213\n" + "\n".join(rows) + "\n" +
+                                    " ".join(["1 0 0 1"] * 4) + "\n")
+    model = lab.read(tmp_path / "a.bez")
+    assert [f.surface.degree for f in model.faces] == [(2, 1), (2, 1)]
+    np.testing.assert_array_equal(model.faces[1].surface.control_points, P)
+    w = np.array([[1.0, 2.0], [0.5, 1.0]])
+    Pw = np.concatenate([P[:2] * w[..., None], w[..., None]], axis=-1)
+    rows = [" ".join(map(str, Pw[i, j])) for j in range(2) for i in range(2)]
+    (tmp_path / "r.bez").write_text("BEZ114\n" + "\n".join(rows) + "\n")
+    face = lab.read(tmp_path / "r.bez").faces[0]
+    np.testing.assert_allclose(face.surface.control_points, P[:2])
+    np.testing.assert_array_equal(face.surface.weights, w)
+    torus_path = Path("/usr/share/geomview/geom/torus.bez")
+    if torus_path.exists():
+        torus = lab.read(torus_path)  # geomview's exact torus has control points at infinity (w = 0): reported, not dropped
+        assert torus.faces == [] and [p.index for p in torus.problems] == [0, 1, 2, 3]  # noqa: E501
+    (tmp_path / "cut.bez").write_text("BBP\n1 2 3\n")
+    with pytest.raises(ValueError, match="cut.bez: patch 0 is cut short: 3 of its 48 numbers"):
+        lab.read(tmp_path / "cut.bez")
+    (tmp_path / "x.bez").write_text("MESH\n")
+    with pytest.raises(ValueError, match="x.bez: expected a geomview Bézier header"):
+        lab.read(tmp_path / "x.bez")

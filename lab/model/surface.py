@@ -213,11 +213,22 @@ class Surface:
         curvature : Curvature
             As :meth:`curvature_grid`, degenerate points filled with their limits.
         """
+        return self._sample_mesh(u, v, True, memory_limit)
+
+    def sample_points(self, u, v, *, memory_limit=None):
+        """Points, unit normals and curvature at the points ``(u, v)`` in one pass (a triangle mesh's vertices).
+
+        As :meth:`sample_grid` with ``u``, ``v`` broadcast against each other; fields of shape
+        ``broadcast(u, v).shape`` (plus ``(3,)`` for ``b`` and ``N``).
+        """
+        return self._sample_mesh(u, v, False, memory_limit)
+
+    def _sample_mesh(self, u, v, grid, memory_limit):
         def fields(d):
             N, _ = _curv.unit_normal(d.bu, d.bv)
             return (d.b, N, *_curv.from_derivatives(d))
 
-        u, v, (b, N, *curv) = self.sample(fields, u, v, grid=True, memory_limit=memory_limit,
+        u, v, (b, N, *curv) = self.sample(fields, u, v, grid=grid, memory_limit=memory_limit,
                                           bytes_per_point=self.BYTES_PER_POINT["curvature"] + 48)
         curv = _curv.with_limits(_curv.Curvature(*curv), u, v, self.centre,
                                  lambda index, uu, vv: self._derivatives(uu, vv))

@@ -1,6 +1,6 @@
 """Real parts: :func:`read` a STEP, IGES, BREP, geomview or Rhino file into a :class:`Model` of NURBS faces with
 trimming loops and shared edges, mesh it with exact curvature, :func:`write` surfaces back.
-``model`` → ``occ`` (OpenCASCADE, imported only when a CAD file is read).
+``model`` → ``occ`` (OpenCASCADE, imported only when a CAD file is read), ``geomview``, ``mesh``, ``models``.
 """
 
 import os
@@ -11,7 +11,8 @@ __all__ = ["Edge", "Face", "Model", "Problem", "read"]
 
 
 def read(path, *, name=None):
-    """Read a part: STEP (``.step``, ``.stp``), IGES (``.iges``, ``.igs``) or BREP (``.brep``).
+    """Read a part: STEP (``.step``, ``.stp``), IGES (``.iges``, ``.igs``), BREP (``.brep``) or geomview's Bézier
+    files (``.bez``, ``.bbp``: ``BEZuvn``, ``BBP``, ``CBEZuvn``, rational ``BEZuv4``, pure Python).
 
     Parameters
     ----------
@@ -47,5 +48,9 @@ def read(path, *, name=None):
         from .occ import read_occ
 
         return read_occ(path, name=name)
-    known = sorted(EXTENSIONS)
+    if ext in (".bez", ".bbp"):
+        from .geomview import read_geomview
+
+        return read_geomview(path, name=name)
+    known = sorted(set(EXTENSIONS) | {".bez", ".bbp"})
     raise ValueError(f"{path}: unsupported file type {ext or '(no extension)'!r}; expected one of {', '.join(known)}")

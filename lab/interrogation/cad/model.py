@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...geometry import curvature as _curv
+from .orientation import flip
 
 __all__ = ["Edge", "Face", "Model", "Problem"]
 
@@ -92,11 +92,6 @@ class Face:
         side = ", reversed" if self.reversed else ""
         trim = "" if self.trim is None else f", {len(self.trim.loops)} loops"
         return f"Face({self.index}, {self.kind}, {self.surface!r}{trim}{side})"
-
-
-def flip(c):
-    """The curvature of the opposite normal: K, -H, -k2, -k1."""
-    return _curv.Curvature(c.K, -c.H, -c.k2, -c.k1, c.degenerate)
 
 
 class Model:

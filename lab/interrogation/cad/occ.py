@@ -294,8 +294,11 @@ def _shared_edges(shape, face_map, converted, domains):
         edge = _cast("Edge")(ancestors.FindKey(k))
         if BRep_Tool.Degenerated_s(edge):
             continue
+        around = ancestors.FindFromIndex(k)
+        if around.Size() < 2:
+            continue  # a free edge (IGES faces are often not sewn)
         owners = []
-        for f in ancestors.FindFromIndex(k):
+        for f in around:
             i = face_map.FindIndex(f) - 1
             if i >= 0 and i in domains and i not in [o for o, _ in owners]:
                 owners.append((i, _cast("Face")(f)))
