@@ -268,3 +268,27 @@ def test_geomview_bezier_files(tmp_path):
     (tmp_path / "x.bez").write_text("MESH\n")
     with pytest.raises(ValueError, match="x.bez: expected a geomview Bézier header"):
         lab.read(tmp_path / "x.bez")
+
+
+@pytest.mark.parametrize("suffix", [".brep", ".step"])
+def test_write_and_read_back_gives_the_same_surfaces(tmp_path, suffix):
+    teapot = lab.models.teapot()
+    path = lab.write(teapot, tmp_path / f"teapot{suffix}")
+    back = lab.read(path)
+    assert len(back.faces) == 32 and back.problems == []
+    u, v = np.meshgrid(np.linspace(0.1, 0.9, 4), np.linspace(0.1, 0.9, 4), indexing="ij")
+    for a, b in zip(teapot.faces, back.faces):
+        np.testing.assert_allclose(b.surface.evaluate(u, v), a.surface.evaluate(u, v), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(b.curvature(u, v).H, a.curvature(u, v).H, rtol=1e-9, atol=1e-12)
+    s = lab.surfaces.practical()
+    back = lab.read(lab.write(s, tmp_path / f"practical{suffix}")).faces[0].surface
+    # BREP keeps every digit; STEP writes 13 significant digits
+    np.testing.assert_allclose(back.control_points, s.control_points, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(back.knots_u, s.knots_u, rtol=1e-12, atol=1e-12)
+
+
+def test_write_refuses_what_it_cannot_write(tmp_path):
+    with pytest.raises(ValueError, match=r"x.obj: cannot write '.obj'; expected one of .brep, .step"):
+        lab.write(lab.surfaces.practical(), tmp_path / "x.obj")
+    with pytest.raises(TypeError, match="write needs a lab.Model, a lab.BezierSurface or a lab.BSplineSurface"):
+        lab.write("surface", tmp_path / "x.brep")

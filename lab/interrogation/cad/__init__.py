@@ -7,7 +7,14 @@ import os
 
 from .model import Edge, Face, Model, Problem
 
-__all__ = ["Edge", "Face", "Model", "Problem", "read"]
+__all__ = ["Edge", "Face", "Model", "Problem", "read", "write"]
+
+
+def write(obj, path):
+    """Write a model (untrimmed faces) or a lab surface as ``.brep`` or ``.step``: see :func:`.write.write`."""
+    from .write import write as _write
+
+    return _write(obj, path)
 
 
 def read(path, *, name=None):
