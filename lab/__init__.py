@@ -80,6 +80,7 @@ _NAMES = {
     "lab.interrogation.cad": ("Model", "read", "write"),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
     "lab.i18n": ("set_language", "language"),
+    "lab.teaching.unfinished": ("exercise_mode",),
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}
 

@@ -89,10 +89,10 @@ def test_reference_solution_passes_public_and_graded():
 
 MUTANT_HINTS = {
     "swapped_degrees": "m and n are swapped",
-    "swapped_index": "m and n are swapped",
+    "swapped_index": "an IndexError also on a square patch",  # m − 1 as the last index of every net
     "no_factors": "need the degree factors",
     "second_factor": "need m(m-1) and n(n-1)",
-    "missing_bu": "b_u lacks its degree factor m",
+    "missing_bu": "b_u has the factor 1 = 1 instead of m = 3",
     "unnormalised": "you used the cross product without dividing by its length",
     "orientation": "opposite orientation",
     "no_half": "the factor ½ is missing",
@@ -266,7 +266,7 @@ def test_fundamental_forms_and_curvatures_hints():
     assert check.curvatures(_curv).passed
     assert "factor ½ is missing" in str(check.curvatures(lambda *a: _curv(*a, half=False)))
     rep = check.curvatures(lambda *a: _curv(*a, clamp=False))
-    assert rep.status == "error" and "math domain error" in rep.message
+    assert rep.status == "error" and "max(H² − K, 0)" in rep.message and "math domain error" in str(rep)
     rep = check.curvatures(lambda *a: np.array(_curv(*a))[[0, 1, 3, 2]])
     assert "larger principal curvature" in str(rep)
 

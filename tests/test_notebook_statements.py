@@ -69,6 +69,33 @@ def test_05_refine_works_in_place():
     assert out.splitlines() == ["49 patches", "196 patches after refine(1); refine returned the same collection: True"]
 
 
+def test_05_the_ranges_the_text_and_the_readme_state():
+    """05: the bump's top is the largest H and K at the corners of depth 1 and 3, not from depth 4 on (the
+    surface's maximum lies between those corners); the README's caption states the depth-1 range."""
+    out = run_cells("05_visualize_curvature.ipynb", ["53d32008", "5ca1e5d0"])["5ca1e5d0"]
+    ranges = {}
+    for line in out.splitlines():
+        depth, kmin, kmax, hmin, hmax = re.match(
+            r"depth (\d): K from (\S+) to (\S+), H from (\S+) to (\S+)$", line).groups()
+        ranges[int(depth)] = tuple(float(x) for x in (kmin, kmax, hmin, hmax))
+    top_h = 6.08  # the practical's value at the bump's top (seeds/README.md), the intro's H ≈ +6.08
+    assert abs(ranges[1][3] - top_h) < 0.01 and abs(ranges[3][3] - top_h) < 0.01
+    assert ranges[1][1] == ranges[3][1] and ranges[4][1] > ranges[3][1] + 10 and ranges[4][3] > top_h + 1
+    readme = (ROOT / "README.md").read_text()
+    caption = re.search(r"the bump's top \(K ≈ (\d+) at the corners\).*?K\s+from (\S+) to (\S+), is blue", readme,
+                        re.DOTALL)
+    assert caption, "the README's caption of the practical's picture"
+    assert int(caption.group(1)) == round(ranges[1][1])
+    assert float(caption.group(2).replace("−", "-")) == round(ranges[1][0], 1)
+    import numpy as np
+
+    import lab
+
+    K = lab.surfaces.practical().to_bezier_patches().refine(1).corner_curvature().K
+    rest = K[K < K.max() / 2]  # "everything else": the corners beside the top
+    assert float(caption.group(3)) == round(float(rest.max()), 2)
+
+
 def test_06_cylinder_sheets_and_dropped_rims():
     out = run_cells("06_focal_surfaces.ipynb", ["6c1f0a01", "9dd9011d"])
     cyl, torus = out["6c1f0a01"], out["9dd9011d"]

@@ -66,7 +66,8 @@ DILL_RANGE = (-0.07, 0.03)
 def _values(x, name="values"):
     x = np.asarray(x, dtype=float)
     if np.any(np.isnan(x)):
-        raise ValueError(f"{name} contain NaN; colour maps need finite numbers (check the 'degenerate' mask)")
+        raise ValueError(f"{name} contain NaN; colour maps need finite numbers (a NaN comes from 0/0 or from the "
+                         "square root of a negative number, e.g. √(H² − K) at an umbilic point)")
     return x
 
 

@@ -21,6 +21,9 @@ from ..i18n import _
 
 __all__ = ["CORNER_U", "CORNER_V", "BezierPatch", "BezierPatches", "ColorMap", "CurvatureMode"]
 
+#: How far a colour component may leave [0, 1] by rounding in :meth:`BezierPatch.set_colors` (it is clipped).
+COLOR_ROUNDING = 1e-9
+
 #: Parameters of the four corners, indexed ``[a, b]`` for ``(u, v) = (a, b)``.
 CORNER_U = np.array([[0.0, 0.0], [1.0, 1.0]])
 CORNER_V = np.array([[0.0, 1.0], [0.0, 1.0]])
@@ -137,7 +140,11 @@ class BezierPatch:
         self._owner.curvature[self._index] = np.reshape(values, (2, 2))
 
     def set_colors(self, c00, c01, c10, c11):
-        """Store the colours at the corners, each an ``(r, g, b)`` tuple in [0, 1]; ``c01`` is at ``u = 0, v = 1``."""
+        """Store the colours at the corners, each an ``(r, g, b)`` tuple in [0, 1]; ``c01`` is at ``u = 0, v = 1``.
+
+        Components that leave [0, 1] by rounding only (at most :data:`COLOR_ROUNDING`, as ``1 + 1e-16`` from a
+        student's h) are clipped into it, as the practical's framework accepted them.
+        """
         rgb = []
         for name, c in (("c00", c00), ("c01", c01), ("c10", c10), ("c11", c11)):
             try:
@@ -146,9 +153,9 @@ class BezierPatch:
                 raise TypeError(f"set_colors: {name} must be an (r, g, b) tuple; got {c!r}") from None
             if arr.shape != (3,):
                 raise ValueError(f"set_colors: {name} must be an (r, g, b) tuple of 3 numbers; got shape {arr.shape}")
-            if not np.all(np.isfinite(arr)) or arr.min() < 0 or arr.max() > 1:
+            if not np.all(np.isfinite(arr)) or arr.min() < -COLOR_ROUNDING or arr.max() > 1 + COLOR_ROUNDING:
                 raise ValueError(f"set_colors: {name} components must lie in [0, 1]; got {tuple(arr.tolist())}")
-            rgb.append(arr)
+            rgb.append(np.clip(arr, 0.0, 1.0))
         self._owner.colors[self._index] = np.reshape(rgb, (2, 2, 3))
 
     def __repr__(self):

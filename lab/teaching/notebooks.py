@@ -33,6 +33,8 @@ markdown cells of ``L`` with the English cell ids, the code translated for Germa
 cell, so checks, hints and explorer labels speak German) and ``exercises/L/NN_topic.ipynb``
 (:func:`make_exercise`):
 
+* the first code cell calls ``lab.exercise_mode()`` after ``import lab``: Run All reaches the end with no
+  task written, each cell that needs an unfinished task saying so in one line (:mod:`lab.teaching.unfinished`);
 * in code cells, the lines from ``### BEGIN SOLUTION`` to ``### END SOLUTION`` (inclusive) become
   ``raise NotImplementedError("…")`` at the same indentation; the text after ``### BEGIN SOLUTION:`` is
   the message, so it says what to implement;
@@ -84,6 +86,11 @@ MD_END = "<!-- END SOLUTION -->"
 DEFAULT_MESSAGE = {"en": "replace this line with your solution", "de": "ersetzen Sie diese Zeile durch Ihre Lösung"}
 ANSWER_PLACEHOLDER = {"en": "*Your answer here.*", "de": "*Ihre Antwort hier.*"}
 SET_LANGUAGE = {"de": 'lab.set_language("de")  # Prüfungen, Hinweise und Beschriftungen auf Deutsch'}
+#: The line an exercise's first code cell gets after ``import lab`` (and ``set_language``): Run All goes on
+#: past unfinished tasks (:mod:`lab.teaching.unfinished`).
+EXERCISE_MODE = {"en": "lab.exercise_mode()  # a cell that needs an unfinished task says so, and Run All goes on",
+                 "de": "lab.exercise_mode()  # eine Zelle, die eine unfertige Aufgabe braucht, sagt es, und "
+                       "„Alle ausführen“ läuft weiter"}
 
 _ROOT = Path(__file__).resolve().parents[2]
 
@@ -146,15 +153,21 @@ def translate_code(source, table):
     return source
 
 
-def _set_language(source, lang):
-    """The first code cell of a notebook in ``lang``: ``lab.set_language(...)`` right after ``import lab``."""
-    if lang not in SET_LANGUAGE:
-        return source
+def _after_import(source, line):
+    """``source`` with ``line`` after its line ``import lab`` (and after the lines that follow it directly and
+    call ``lab.``, as ``set_language``)."""
     lines = source.split("\n")
     if "import lab" not in lines:
-        raise SourceError("the first code cell must contain the line 'import lab' (set_language follows it)")
-    i = lines.index("import lab")
-    return "\n".join(lines[: i + 1] + [SET_LANGUAGE[lang]] + lines[i + 1:])
+        raise SourceError(f"the first code cell must contain the line 'import lab' ({line.split('(')[0]} follows it)")
+    i = lines.index("import lab") + 1
+    while i < len(lines) and lines[i].startswith("lab."):
+        i += 1
+    return "\n".join(lines[:i] + [line] + lines[i:])
+
+
+def _set_language(source, lang):
+    """The first code cell of a notebook in ``lang``: ``lab.set_language(...)`` right after ``import lab``."""
+    return _after_import(source, SET_LANGUAGE[lang]) if lang in SET_LANGUAGE else source
 
 
 def localize(source, lang):
@@ -211,9 +224,12 @@ def make_exercise(solution):
     """
     nb = copy.deepcopy(solution)
     lang = nb.metadata.get("lab", {}).get("lang", LANGUAGES[0])
+    first_code = True
     for cell in nb.cells:
         if cell.cell_type == "code":
             cell.source = strip_code(cell.source, lang)
+            if first_code:
+                cell.source, first_code = _after_import(cell.source, EXERCISE_MODE[_lang(lang)]), False
             cell.outputs = []
             cell.execution_count = None
         elif cell.cell_type == "markdown":

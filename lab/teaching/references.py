@@ -30,10 +30,16 @@ def rand_net(rng, m, n, kind="random", scale=1.0):
     computed K and H are rounding noise, as on real flat regions); ``umbilic`` (a paraboloid's vertex at
     the (0, 0) corner, turned so that the textbook formula computes H² − K < 0 there; needs m, n >= 2);
     ``bowl`` and ``saddle`` (a tilted plane plus a gentle z = ±c(x² ± y²): genuine curvature with
-    |K| ≈ 1e-4 relative to the patch's size, elliptic or hyperbolic everywhere).
+    |K| ≈ 1e-4 relative to the patch's size, elliptic or hyperbolic everywhere); ``twisted`` (z = a x + b y
+    + c x y over x = i, y = j: b_uu = b_vv = 0 exactly and b_uv ≠ 0, so a wrong factor of b_uv shows alone).
     """
     if kind == "umbilic":
         P = _umbilic_net(rng, m, n)
+    elif kind == "twisted":
+        X, Y = np.meshgrid(np.arange(m + 1.0), np.arange(n + 1.0), indexing="ij")
+        a, b = rng.integers(-7, 8, 2) / 8
+        c = int(rng.choice([-3, -2, -1, 1, 2, 3])) / 4
+        P = np.stack([X, Y, a * X + b * Y + c * X * Y], axis=-1)
     elif kind in ("bowl", "saddle"):
         # x = m u, y = n v (Bernstein coefficients i and j); (m u)^2 has the coefficients m i (i - 1) / (m - 1).
         # z = a x + b y + c (x^2 ± y^2) with c = 2^-7 / (m + n): |K| = 4 c^2 / (1 + ...)^2 ≈ 1e-4 / size^2.

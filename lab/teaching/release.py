@@ -49,8 +49,8 @@ ROOT = Path(__file__).resolve().parents[2]
 MARK = ".lab-release"
 #: Teaching modules withheld whole: they hold the cases, the exact answers and the hints.
 #: Every ``tasks*.py``, so that a new task module is withheld without being listed here.
-WHOLE_MODULES = tuple(sorted(p.name for p in (ROOT / "lab" / "teaching").glob("tasks*.py"))) + ("references.py",
-                                                                                                 "hints.py")
+WHOLE_MODULES = tuple(sorted(p.name for p in (ROOT / "lab" / "teaching").glob("tasks*.py"))) + (
+    "references.py", "hints.py", "mutants.py")
 #: Top-level files and folders of the hand-out, taken from the course repository.
 COPIED = ("pyproject.toml", "jupyter")
 #: Solution lines shorter than this (after removing spaces) are not searched: ``return K``, ``else:``.

@@ -27,7 +27,7 @@ _HEAD = {
     "not run": N_("✘ {task}: the check did not run."),
 }
 #: The statuses as a case line shows them.
-_STATUS_WORDS = {"error": N_("error"), "not implemented": N_("not implemented"), "timeout": N_("timeout"),
+_STATUS_WORDS = {"failed": N_("failed"), "error": N_("error"), "not implemented": N_("not implemented"), "timeout": N_("timeout"),
                  "delegated": N_("delegated"), "not run": N_("not run")}
 
 
@@ -42,6 +42,8 @@ class Case:
     hint: str = ""
     status: str = ""
     weight: float = 1.0
+    #: the key of the mistake the hint names (:class:`lab.teaching.spec.Hint`), "" when it names none
+    mistake: str = ""
 
     def __post_init__(self):
         if not self.status:
@@ -106,7 +108,9 @@ class Report:
     def _lines(self):
         n, k = len(self.cases), sum(c.status == "passed" for c in self.cases)
         out = [_(_HEAD[self.status]).format(task=self.task, n=n, k=k)]
-        if self.message:
+        if self.message and self.status == "not implemented":  # the stub's text says what to write
+            out.append("  " + _("the task: {text}").format(text=self.message.replace("\n", "\n  ")))
+        elif self.message:
             out.append("  " + self.message.replace("\n", "\n  "))
         weights = {c.weight for c in self.cases}
         for c in self.cases:
@@ -117,18 +121,18 @@ class Report:
             out.append("  " + (_("credit: each case counts equally ({n} cases).") if len(weights) == 1 else
                                _("credit: weighted as shown ({n} cases).")).format(n=n))
         failed = [c for c in self.cases if c.status not in ("passed", "not run")]
-        if failed:
+        if failed and self.status != "not implemented":  # an empty task has no answer to show as "got"
             c = failed[0]
             out.append(_("First failing case: {name}").format(name=c.name))
             labels = [_("expected:"), _("got:"), _("hint:")]
             width = max(len(x) for x in labels)
-            for label, text in zip(labels, (c.expected, c.got, c.hint)):
+            # the hint is the report's headline (message) already: not twice
+            texts = (c.expected, c.got if c.got != self.message else "", c.hint if c.hint and c.hint not in self.message else "")
+            for label, text in zip(labels, texts):
                 if text:
+                    text = text.replace("\n", "\n" + " " * (width + 3))
                     out.append(f"  {label:<{width}} {text}")
-            others = [f"{o.name} ({o.hint or _(_STATUS_WORDS.get(o.status, o.status))})" for o in failed[1:]
-                      if o.hint != c.hint or o.status != c.status]
-            if others:
-                out.append(_("Other failing cases: ") + "; ".join(others[:6]) + (" …" if len(others) > 6 else ""))
+            out.extend(_others(failed))
         if self.passed and not self.graded:
             out.append(_("Public checks passed; the graded run adds more cases."))
         return out
@@ -143,3 +147,33 @@ class Report:
         colour = "#1a7f37" if self.passed else ("#9a6700" if self.status == "not implemented" else "#cf222e")
         body = html.escape("\n".join(self.lines()))
         return f'<pre style="border-left:4px solid {colour};padding:0.4em 0.8em;white-space:pre-wrap">{body}</pre>'
+
+
+def _others(failed):
+    """Lines for the failing cases after the first: cases with the same mistake, hint or error grouped, counted."""
+
+    def key(c):  # the same mistake reads differently on patches of other degrees: its key groups them
+        return (c.mistake or c.hint, "" if c.hint else c.status, "" if c.hint or c.status != "error" else c.got)
+
+    first, groups, hints = failed[0], {}, {}
+    for c in failed[1:]:
+        groups.setdefault(key(c), []).append(c.name)
+        hints.setdefault(key(c), c.hint)
+    if not groups:
+        return []
+    out = [_("Other failing cases:")]
+    for k, names in list(groups.items())[:6]:
+        hint, status = hints[k], k[1]
+        shown = "; ".join(names[:4]) + (" …" if len(names) > 4 else "")
+        if hint and k[0] in (first.mistake or first.hint, first.hint):
+            out.append("  " + _("{n} with the same hint ({names})").format(n=len(names), names=shown))
+        elif hint:
+            out.append("  " + _("{n} with the hint: {hint} ({names})").format(n=len(names), hint=hint, names=shown))
+        elif k == key(first):
+            out.append("  " + _("{n} the same ({names})").format(n=len(names), names=shown))
+        else:
+            out.append("  " + _("{n} {status} ({names})").format(n=len(names), status=_(_STATUS_WORDS[status]),
+                                                               names=shown))
+    if len(groups) > 6:
+        out.append("  …")
+    return out

@@ -10,14 +10,16 @@ answers outside (:mod:`lab.teaching.grading`).
 import contextlib
 import importlib
 import math
+import re
 import secrets
+import sys
 
 import numpy as np
 
 from .protocol import MARKER, decode_args, encode_args, outcome
 from .spec import build_report, judge_outcome
 
-__all__ = ["DEFAULT_TIMEOUT", "blocked", "resolve", "run_task"]
+__all__ = ["DEFAULT_TIMEOUT", "blocked", "latest_syntax_error", "resolve", "run_task"]
 
 #: Seconds a student function may run in one case of a check before it is stopped.
 DEFAULT_TIMEOUT = 20.0
@@ -67,6 +69,32 @@ def blocked(qualnames):
     finally:
         for func, code in saved:
             func.__code__ = code
+
+
+def latest_syntax_error(obj):
+    """Why ``obj`` is not what the student last wrote: the latest notebook cell that defines its name has a
+    syntax error (so the object is an older version, often the stub), as a message; "" otherwise or outside
+    IPython."""
+    name = getattr(obj, "__name__", "")
+    shell = getattr(sys.modules.get("IPython"), "get_ipython", lambda: None)()
+    if not name or shell is None:
+        return ""
+    pattern = re.compile(rf"^\s*(def|class)\s+{re.escape(name)}\b|^\s*{re.escape(name)}\s*=", re.MULTILINE)
+    history = list(shell.user_ns.get("In", []))[:-1]  # the last input is the cell running this check
+    for k in range(len(history) - 1, 0, -1):
+        source = history[k]
+        if not pattern.search(source):
+            continue
+        try:
+            compile(shell.transform_cell(source), f"In [{k}]", "exec")
+        except SyntaxError as exc:
+            from ..i18n import _
+
+            return _("{name} as you last wrote it was never defined: the cell In [{cell}] that defines it has a "
+                     "syntax error ({error}: {message}, line {line}); fix it and run that cell").format(
+                         name=name, cell=k, error=type(exc).__name__, message=exc.msg, line=exc.lineno)
+        return ""
+    return ""
 
 
 def _options(seed, timeout, graded):

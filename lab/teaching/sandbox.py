@@ -40,7 +40,7 @@ __all__ = ["Sandbox", "bwrap_works", "prepare_package"]
 
 LAB_DIR = Path(__file__).resolve().parents[1]
 #: Teaching modules the sandbox keeps: they call the student's code and hold no answers.
-KEEP_TEACHING = ("__init__.py", "protocol.py", "harness.py", "child.py", "runner_client.py")
+KEEP_TEACHING = ("__init__.py", "protocol.py", "harness.py", "child.py", "runner_client.py", "unfinished.py")
 #: Read-only system folders and files (bound when present).
 SYSTEM_PATHS = ("/usr", "/bin", "/sbin", "/lib", "/lib32", "/lib64", "/etc/alternatives", "/etc/ld.so.cache",
                 "/etc/ld.so.conf", "/etc/ld.so.conf.d", "/etc/fonts", "/etc/passwd", "/etc/group",

@@ -9,7 +9,12 @@ A :class:`Task` is data plus pure functions, used unchanged by the in-notebook c
   back as numbers (:func:`lab.teaching.protocol.decode`);
 * ``error_hint(case, message)`` → a hint for an exception (e.g. an IndexError on a non-square patch);
 * ``blocked``: the library functions the student's code must not call for this task (qualified names):
-  blocked in the in-notebook check, removed from the package the grader's sandbox sees.
+  blocked in the in-notebook check, removed from the package the grader's sandbox sees;
+* ``diagnose(specs, cases)`` → one diagnosis for the whole report: it may rewrite the cases' hints once
+  all are judged (an IndexError means swapped degrees only when the square cases pass).
+
+A hint may be a :class:`Hint`, a text that also names its mistake (``key``), so that ``diagnose`` can
+reason about the cases and the report can group cases with the same mistake.
 """
 
 from dataclasses import dataclass, field
@@ -19,7 +24,16 @@ import numpy as np
 from ..i18n import _
 from .report import Case
 
-__all__ = ["CaseSpec", "Task", "close", "fmt", "judge_outcome"]
+__all__ = ["CaseSpec", "Hint", "Task", "build_report", "close", "fmt", "judge_outcome"]
+
+
+class Hint(str):
+    """A hint's text, with the ``key`` of the mistake it names (e.g. ``"index_error"``)."""
+
+    def __new__(cls, text, key=""):
+        self = super().__new__(cls, text)
+        self.key = key
+        return self
 
 
 @dataclass
@@ -46,6 +60,7 @@ class Task:
     allowed: str = ""
     error_hint: object = None
     summary: str = ""
+    diagnose: object = None
 
 
 def close(a, b, rtol=1e-7, scale=None):
@@ -92,7 +107,7 @@ def judge_outcome(task, case, outcome, expected_fn):
             passed, exp_text, got_text, hint = False, _(task.summary), "", _("the result could not be judged ({error}).").format(
                 error=exc)
         return Case(case.name, bool(passed), exp_text, got_text, "" if passed else hint,
-                    "passed" if passed else "failed", case.weight)
+                    "passed" if passed else "failed", case.weight, "" if passed else getattr(hint, "key", ""))
     if status not in _STATUS:
         status, message = "error", _("the check could not run this case ({status})").format(status=repr(status))
     hint = ""
@@ -105,7 +120,7 @@ def judge_outcome(task, case, outcome, expected_fn):
         hint = (_("write the computation yourself; allowed helpers: {helpers}.").format(helpers=task.allowed)
                 if task.allowed else _("write the computation yourself."))
         message = message or _("a withheld library function")
-    return Case(case.name, False, "", message, hint, _STATUS[status], case.weight)
+    return Case(case.name, False, "", message, hint, _STATUS[status], case.weight, getattr(hint, "key", ""))
 
 
 def build_report(task, specs, cases, *, graded=False, seed=None):
@@ -122,9 +137,13 @@ def build_report(task, specs, cases, *, graded=False, seed=None):
                 c.status, c.passed, c.got = "failed", False, _("(right here, but nothing else is)")
                 c.hint = _("this case is flat, so a constant answer fits it by accident: it counts only "
                            "when a curved case passes too.")
+    if task.diagnose is not None and not all(c.passed for c in cases):
+        task.diagnose(specs, cases)
     status = task_status(cases)
     message = ""
     first = next((c for c in cases if c.status == status), None) if status not in ("passed", "failed") else None
+    if status in ("error", "failed"):  # one diagnosis: the first failing case's (the block below shows it)
+        first = next(c for c in cases if c.status not in ("passed", "not run"))
     if first is not None:
         if status == "not implemented":
             message = first.got or _("{task} is not implemented yet.").format(task=task.name)
@@ -133,10 +152,8 @@ def build_report(task, specs, cases, *, graded=False, seed=None):
         elif status == "delegated":
             message = _("Your {task} calls the library's own implementation ({names}).").format(
                 task=task.name, names=first.got) + " " + first.hint[0].upper() + first.hint[1:]
-        elif status == "error":
-            message = first.got + ("\n" + _("(in the case: {name})").format(name=first.name) if len(cases) > 1 else "")
-            if first.hint:
-                message += "\n" + _("hint:") + " " + first.hint
+        elif status in ("error", "failed"):
+            message = first.hint or (first.got if first.status == "error" else "")
         elif status == "not run":
             message = first.got
     return Report(task.name, status, cases, message, graded, seed)

@@ -6,7 +6,7 @@ from ..geometry import colormaps
 from ..geometry.curvature import zero_tolerance
 from ..i18n import N_, _
 from ..model.patches import BezierPatches
-from .hints import diagnose_colors, diagnose_values, visualize_error_hint
+from .hints import diagnose_colors, diagnose_report, diagnose_values, visualize_error_hint
 from .references import MODE_FIELD, MODE_LABELS, exact_corners, expected_colors, model_size, rand_net, value_tolerance
 from .spec import CaseSpec, Task, close, fmt
 from .tasks_curvature import BEZIER_BLOCK, CURVATURE_BLOCK
@@ -151,6 +151,8 @@ def _visualize_cases(rng, graded):
     big = 2.0**20  # |K| about 1e-18 absolute: below any absolute tolerance a student would write
     specs = [
         (N_("one 3×3 patch, Gaussian curvature, linear map"), [rand_net(rng, 3, 3)], 0, "gaussian", "linear"),
+        (N_("a twisted 2×3 patch (z = c·xy: only b_uv ≠ 0 of the second derivatives), Gaussian curvature"),
+         [rand_net(rng, 2, 3, "twisted")], 0, "gaussian", "linear"),
         (N_("three 2×3 patches, mean curvature"), [rand_net(rng, 2, 3) for _k in range(3)], 0, "mean", "linear"),
         (N_("two 3×2 patches, κ1 (max)"), [rand_net(rng, 3, 2) for _k in range(2)], 0, "k1", "linear"),
         (N_("two 2×3 patches refined once, κ2 (min)"), [rand_net(rng, 2, 3) for _k in range(2)], 1, "k2", "linear"),
@@ -205,7 +207,7 @@ def _visualize_judge(case, value, exp):
     tol = value_tolerance(values, mode, case.info["size"], 1e-7 if mode in ("k1", "k2") else 1e-8)
     if not np.all(np.abs(got_v - values) <= tol):
         return (False, _("{mode} at the corners: {values}").format(mode=_(MODE_LABELS[mode]), values=fmt(values)), fmt(got_v),
-                diagnose_values(nets, mode, got_v, values))
+                diagnose_values(nets, mode, got_v, values, zero_tolerance(mode, case.info["size"])))
     if np.isnan(got_c).all(axis=(1, 2, 3)).any():
         return (False, _("set_colors called for every patch"), _("some patches have no colours"),
                 _("call patch.set_colors(c00, c01, c10, c11) with (r, g, b) tuples for every patch."))
@@ -222,4 +224,5 @@ def _visualize_error_hint(case, message):
 VISUALIZE_CURVATURE = Task(
     "visualize_curvature", _visualize_cases, _visualize_expected, _visualize_judge, protocol="patches",
     blocked=VISUALIZE_BLOCK, allowed="lab.colormaps.h, f1, f2, f3, math, numpy", error_hint=_visualize_error_hint,
+    diagnose=diagnose_report,
     summary=N_("the curvature stored with set_curvature and the colours stored with set_colors for every patch"))

@@ -7,9 +7,10 @@ import numpy as np
 import sympy as sp
 
 from ..i18n import N_, _
+from .hints import diagnose_indices, factor_hint, index_error_hint
 from .hints import hint as variant_hint
-from .references import NET_NAMES, degree_factor, rand_net, variant_corner_derivatives, variant_nets
-from .spec import CaseSpec, Task, close, fmt
+from .references import NET_NAMES, rand_net, variant_corner_derivatives, variant_nets
+from .spec import CaseSpec, Hint, Task, close, fmt
 
 __all__ = [
     "BEZIER_BLOCK",
@@ -268,16 +269,16 @@ def _net_cases(rng, graded):
             for m, n in _DEGREES + (_GRADED_DEGREES if graded else [])]
 
 
+#: The net a transposed reading of the control net gives in place of each net.
+_PARTNER = {"bu": "bv", "bv": "bu", "buu": "bvv", "buv": "buv", "bvv": "buu"}
+
+
 def _factor_hint(P, got, reference_fn, net):
     """Name the mistake whose result equals ``got`` for the derivative ``net``: degree factors, swapped degrees."""
-    for variant in ("no_factors", "second_factor", "swapped_degrees", f"missing:{net}"):
+    for variant in ("no_factors", "second_factor", "swapped_degrees"):
         if close(got, reference_fn(P, variant)[net], rtol=1e-12):
-            if variant.startswith("missing:"):
-                text, value = degree_factor(P, net)
-                return _("{net} lacks its degree factor {factor} = {value} (your values are {value} times too small): "
-                         "practical section 3.").format(net=net, factor=text, value=value)
             return variant_hint(variant)
-    return ""
+    return factor_hint(P, net, got, reference_fn(P)[net])
 
 
 def _nets_judge(case, value, exp, corners=False):
@@ -303,9 +304,11 @@ def _nets_judge(case, value, exp, corners=False):
             hint = _("the net of {net} of a degree ({m}, {n}) patch has shape {shape}: "
                      "Δ^{{1,0}} reduces the first index, Δ^{{0,1}} the second.").format(net=net, m=m, n=n, shape=e.shape)
             if g.shape == e.shape[1::-1] + e.shape[2:]:
-                hint += " " + _("Yours looks transposed.")
+                hint = Hint(hint + " " + _("Yours looks transposed."), "transposed")
     elif corners and close(g, np.swapaxes(e, 0, 1), rtol=1e-12):
         hint = _("corners mixed up: index [a, b] is (u, v) = (a, b); [0, 1] is u = 0, v = 1.")
+    elif corners and m == n and close(g, np.swapaxes(exp[_PARTNER[net]], 0, 1), rtol=1e-12) and net != "buv":
+        hint = variant_hint("transposed")
     else:
         hint = _factor_hint(P, g, variant_corner_derivatives if corners else variant_nets, net)
     default = (_("the value at a corner is the corner point of the derivative net (practical fig. 3).") if corners
@@ -315,16 +318,17 @@ def _nets_judge(case, value, exp, corners=False):
 
 def _swap_error_hint(case, message):
     P = case.args[0] if isinstance(case.args[0], np.ndarray) and case.args[0].ndim == 3 else None
-    if "IndexError" in message and P is not None and P.shape[0] != P.shape[1]:
-        return variant_hint("swapped_degrees") + " " + _("(Here it raised an IndexError on a non-square patch.)")
+    if "IndexError" in message and P is not None:
+        return index_error_hint(P)
     return ""
 
 
 DERIVATIVE_NETS = Task("derivative_nets", _net_cases, lambda c: variant_nets(c.args[0]), _nets_judge,
                        blocked=BEZIER_BLOCK, allowed="numpy (np.diff)", error_hint=_swap_error_hint,
+                       diagnose=diagnose_indices,
                        summary=N_("a tuple of the five derivative nets (bu, bv, buu, buv, bvv)"))
 CORNER_DERIVATIVES = Task("corner_derivatives", _net_cases, lambda c: variant_corner_derivatives(c.args[0]),
                           lambda c, v, e: _nets_judge(c, v, e, corners=True), blocked=BEZIER_BLOCK,
-                          allowed="numpy", error_hint=_swap_error_hint,
+                          allowed="numpy", error_hint=_swap_error_hint, diagnose=diagnose_indices,
                           summary=N_("a tuple of five (2, 2, 3) arrays (bu, bv, buu, buv, bvv), indexed [a, b] "
                                      "for (u, v) = (a, b)"))

@@ -11,7 +11,7 @@ __all__ = ["Edge", "Face", "Model", "Problem", "read", "write"]
 
 
 def write(obj, path):
-    """Write a model (untrimmed faces) or a lab surface as ``.brep`` or ``.step``: see :func:`.write.write`."""
+    """Write a model (untrimmed faces) or a lab surface as ``.brep``, ``.step`` or ``.3dm``: see :func:`.write.write`."""
     from .write import write as _write
 
     return _write(obj, path)
@@ -19,7 +19,8 @@ def write(obj, path):
 
 def read(path, *, name=None):
     """Read a part: STEP (``.step``, ``.stp``), IGES (``.iges``, ``.igs``), BREP (``.brep``) or geomview's Bézier
-    files (``.bez``, ``.bbp``: ``BEZuvn``, ``BBP``, ``CBEZuvn``, rational ``BEZuv4``, pure Python).
+    files (``.bez``, ``.bbp``: ``BEZuvn``, ``BBP``, ``CBEZuvn``, rational ``BEZuv4``, pure Python) or Rhino
+    (``.3dm``, through rhino3dm).
 
     Parameters
     ----------
@@ -59,5 +60,9 @@ def read(path, *, name=None):
         from .geomview import read_geomview
 
         return read_geomview(path, name=name)
-    known = sorted(set(EXTENSIONS) | {".bez", ".bbp"})
+    if ext == ".3dm":
+        from .rhino import read_3dm
+
+        return read_3dm(path, name=name)
+    known = sorted(set(EXTENSIONS) | {".bez", ".bbp", ".3dm"})
     raise ValueError(f"{path}: unsupported file type {ext or '(no extension)'!r}; expected one of {', '.join(known)}")

@@ -9,7 +9,7 @@ from .occ import _cast, require_ocp
 
 __all__ = ["WRITE_EXTENSIONS", "occ_bspline", "write"]
 
-WRITE_EXTENSIONS = (".brep", ".step", ".stp")
+WRITE_EXTENSIONS = (".brep", ".step", ".stp", ".3dm")
 
 
 def occ_bspline(surface):
@@ -65,7 +65,8 @@ def write(obj, path):
     ----------
     obj : Model, BezierSurface or BSplineSurface
     path : str or os.PathLike
-        ``.brep`` (OpenCASCADE's own format) or ``.step``/``.stp`` (AP214), one face per surface in a compound;
+        ``.brep`` (OpenCASCADE's own format), ``.step``/``.stp`` (AP214), one face per surface in a compound,
+        or ``.3dm`` (Rhino, through rhino3dm: NURBS surfaces; the orientation is not written there);
         a reversed face is written reversed.  Control points, weights, knots and parameters are written as
         they are, so :func:`lab.read` gives the same surfaces back.
     """
@@ -74,6 +75,10 @@ def write(obj, path):
     if ext not in WRITE_EXTENSIONS:
         raise ValueError(f"{path}: cannot write {ext or '(no extension)'!r}; expected one of {', '.join(WRITE_EXTENSIONS)}")
     pairs = _surfaces(obj)
+    if ext == ".3dm":
+        from .rhino import write_3dm
+
+        return write_3dm(pairs, path)
     require_ocp()
     from OCP.BRep import BRep_Builder
     from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
