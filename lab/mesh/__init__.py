@@ -3,7 +3,7 @@ level lines on triangle meshes, trimmed-surface meshes and geomview files (CBEZ,
 May import numpy, scipy, pyvista and lab.geometry; surfaces and patches arrive as arguments (duck-typed).
 """
 
-from .build import WELD_RTOL, color_cells, color_curvature, grid_mesh, patches_mesh, surface_mesh, weld
+from .build import WELD_RTOL, color_cells, color_curvature, grid_mesh, patches_mesh, polyline_mesh, surface_mesh, weld
 from .geomview import read_cbez, read_geomview, read_off, write_cbez, write_off
 from .trimmed import trimmed_mesh
 
@@ -13,6 +13,7 @@ __all__ = [
     "color_curvature",
     "grid_mesh",
     "patches_mesh",
+    "polyline_mesh",
     "read_cbez",
     "read_geomview",
     "read_off",

@@ -28,6 +28,7 @@ __all__ = [
     "color_curvature",
     "grid_mesh",
     "patches_mesh",
+    "polyline_mesh",
     "surface_mesh",
     "weld",
 ]
@@ -345,3 +346,19 @@ def _faces(mesh):
         out.append(faces[i + 1 : i + 1 + k])
         i += k + 1
     return out
+
+
+def polyline_mesh(polylines):
+    """A ``pyvista.PolyData`` of polylines from a list of ``(k, 3)`` point arrays (e.g. paths' ``points``),
+    for ``render.show(..., lines=...)`` and the explorers' overlays."""
+    pieces = [np.asarray(p, dtype=float).reshape(-1, 3) for p in polylines]
+    pieces = [p for p in pieces if len(p) >= 2]
+    if not pieces:
+        return pv.PolyData()
+    points = np.concatenate(pieces)
+    cells, start = [], 0
+    for p in pieces:
+        cells.append(np.concatenate([[len(p)], np.arange(start, start + len(p))]))
+        start += len(p)
+    return pv.PolyData(points, lines=np.concatenate(cells).astype(np.int64))
+
