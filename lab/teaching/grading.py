@@ -134,11 +134,14 @@ class GradeResult:
             lines.extend("    " + line for line in clean(t["report"], MAX_REPORT).splitlines())
         errors = [e for e in self.cell_errors if e.get("kind") not in WITHHELD]
         withheld = [str(e["cell"]) for e in self.cell_errors if e.get("kind") in WITHHELD]
+        names = sorted({e["error"].rsplit(": ", 1)[-1].strip() for e in self.cell_errors
+                        if e.get("kind") == "withheld" and ": lab." in e.get("error", "")})
         for e in errors:
             lines.append("  " + _("cell {index}: {error}").format(index=e["cell"], error=clean(e["error"], 500)))
         if withheld:
             lines.append("  " + _("cells {indices}: the library's reference implementation (or a result of it) is "
-                                  "withheld in the graded run; no points depend on it").format(indices=", ".join(withheld)))
+                                  "withheld in the graded run; no points depend on it").format(indices=", ".join(withheld))
+                         + (" (" + clean(", ".join(names), 300) + ")" if names else ""))
         lines.extend("  " + _("note: {note}").format(note=clean(n)) for n in self.notes)
         if self.missing_protections:
             lines.append("  " + _("sandbox: missing {what}").format(what="; ".join(self.missing_protections)))
