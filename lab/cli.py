@@ -6,6 +6,7 @@ coloured Bézier patches for geomview (BEZ).
 """
 
 import argparse
+import math
 import re
 import sys
 import time
@@ -33,6 +34,11 @@ def _render(args, parser):
     from . import mesh as _mesh
     from .view import render
 
+    if out.suffix.lower() == ".png":
+        try:  # the picture's memory, before anything is built
+            render._window(args.window_size)
+        except ValueError as exc:
+            parser.error(f"--window-size: {exc}")
     options = _map_options(args, parser)
     start = time.perf_counter()
     steps = 3 + args.depth
@@ -141,6 +147,8 @@ def _camera(text):
         azimuth, elevation = (float(x) for x in text.split(","))
     except ValueError:
         raise argparse.ArgumentTypeError(f"camera must look like AZIMUTH,ELEVATION in degrees, e.g. -60,35; got {text!r}") from None
+    if not (math.isfinite(azimuth) and math.isfinite(elevation)):
+        raise argparse.ArgumentTypeError(f"camera angles must be finite numbers of degrees; got {text!r}")
     if not -90 <= elevation <= 90:
         raise argparse.ArgumentTypeError(f"the elevation must lie between -90 and 90 degrees; got {elevation:g}")
     return azimuth, elevation

@@ -261,7 +261,7 @@ def test_geomview_bezier_files(tmp_path):
     torus_path = Path("/usr/share/geomview/geom/torus.bez")
     if torus_path.exists():
         torus = lab.read(torus_path)  # geomview's exact torus has control points at infinity (w = 0): reported, not dropped
-        assert torus.faces == [] and [p.index for p in torus.problems] == [0, 1, 2, 3]  # noqa: E501
+        assert torus.faces == [] and [p.index for p in torus.problems] == [0, 1, 2, 3]
     (tmp_path / "cut.bez").write_text("BBP\n1 2 3\n")
     with pytest.raises(ValueError, match="cut.bez: patch 0 is cut short: 3 of its 48 numbers"):
         lab.read(tmp_path / "cut.bez")

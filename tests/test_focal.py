@@ -219,9 +219,9 @@ def test_errors(sphere_mesh):
         I.parabolic_lines(sphere_mesh, resolution=10)
     with pytest.raises(ValueError, match="tol must be a positive number"):
         I.focal_sheets(sphere_mesh, tol=-1)
-    with pytest.raises(ValueError, match="tol must be a non-negative number"):
+    with pytest.raises(ValueError, match="tol must be >= 0; got nan"):
         I.parabolic_lines(sphere_mesh, tol=np.nan)
-    with pytest.raises(TypeError, match="scale must be a number"):
+    with pytest.raises(TypeError, match="scale must be a real number; got str 'big'"):
         I.focal_surface(sphere_mesh, "big")
     with pytest.raises(ValueError, match="resolution must be an integer >= 2"):
         I.focal_surface(surfaces.plane(), 1.0, resolution=1)

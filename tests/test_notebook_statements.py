@@ -87,7 +87,6 @@ def test_05_the_ranges_the_text_and_the_readme_state():
     assert caption, "the README's caption of the practical's picture"
     assert int(caption.group(1)) == round(ranges[1][1])
     assert float(caption.group(2).replace("−", "-")) == round(ranges[1][0], 1)
-    import numpy as np
 
     import lab
 

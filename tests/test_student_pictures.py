@@ -58,8 +58,9 @@ def test_show_row_puts_the_pictures_side_by_side_with_one_camera(patches):
     p = patches.copy()
     p.visualize_curvature("gaussian", "classification")
     image = render.show_row([p, p], titles=["a", "b"], window_size=(600, 300))
-    from PIL import Image
     import io
+
+    from PIL import Image
 
     array = np.asarray(Image.open(io.BytesIO(image.data)).convert("RGB"))
     assert array.shape == (300, 600, 3)

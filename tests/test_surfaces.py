@@ -133,9 +133,9 @@ def test_every_registered_surface_is_regular_inside(name):
 
 
 def test_factory_errors():
-    with pytest.raises(ValueError, match="radius must be positive; got -1"):
+    with pytest.raises(ValueError, match="radius must be a positive number; got -1"):
         surfaces.sphere(-1)
     with pytest.raises(ValueError, match="torus needs R > r > 0; got R=1.0, r=2.0"):
         surfaces.torus(1, 2)
-    with pytest.raises(ValueError, match="cylinder needs r > 0 and h > 0"):
+    with pytest.raises(ValueError, match="r must be a positive number; got 0"):
         surfaces.cylinder(0, 1)

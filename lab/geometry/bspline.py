@@ -42,6 +42,9 @@ def validate_knots(knots, degree, n_points, name="knot vector"):
     ``degree + 1`` times, or an empty domain; ``TypeError`` for a non-integer degree.
     """
     degree = _v.as_positive_int(degree, f"degree of the {name}", minimum=1)
+    if degree >= n_points:
+        raise ValueError(f"degree of the {name} must be below the number of control points in that direction "
+                         f"({n_points}, so at most {n_points - 1}); got {degree}")
     t = np.asarray(knots, dtype=float) if not isinstance(knots, (str, bytes)) else None
     if t is None or t.ndim != 1:
         raise ValueError(f"{name} must be a 1-D sequence of numbers; got {knots!r}")

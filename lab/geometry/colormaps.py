@@ -21,6 +21,8 @@ import enum
 
 import numpy as np
 
+from .validation import as_number
+
 __all__ = [
     "COLOR_MAPS",
     "DILL_COLORS",
@@ -64,11 +66,26 @@ DILL_RANGE = (-0.07, 0.03)
 
 
 def _values(x, name="values"):
-    x = np.asarray(x, dtype=float)
+    if isinstance(x, (str, bytes)) or x is None:
+        raise TypeError(f"{name} must be an array of numbers; got {type(x).__name__} {x!r}")
+    try:
+        x = np.asarray(x, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be an array of real numbers; got {type(x).__name__} ({exc})") from None
     if np.any(np.isnan(x)):
         raise ValueError(f"{name} contain NaN; colour maps need finite numbers (a NaN comes from 0/0 or from the "
                          "square root of a negative number, e.g. √(H² − K) at an umbilic point)")
+    if np.any(np.isinf(x)):
+        raise ValueError(f"{name} must be finite for a colour map; got inf (lab.colormaps.colors_for paints "
+                         "non-finite values grey)")
     return x
+
+
+def _range_needs_values(x, what, given):
+    """A map that finds its range from the values refuses an empty array unless the range is ``given``."""
+    if not x.size:
+        raise ValueError(f"{what} needs at least one value to find its range; got an empty array (give {given} "
+                         "to colour no values)")
 
 
 def h(x):
@@ -117,8 +134,11 @@ def f2(x, vmin=None, vmax=None, *, atol=0.0, rtol=1e-9):
     the sign cannot be read off.
     """
     x = _values(x)
-    lo = np.min(x) if vmin is None else float(vmin)
-    hi = np.max(x) if vmax is None else float(vmax)
+    if vmin is None or vmax is None:
+        _range_needs_values(x, "f2", "vmin and vmax")
+    lo = np.min(x) if vmin is None else as_number(vmin, "vmin")
+    hi = np.max(x) if vmax is None else as_number(vmax, "vmax")
+    atol, rtol = as_number(atol, "atol", minimum=0), as_number(rtol, "rtol", minimum=0)
     if hi < lo:
         raise ValueError(f"f2 needs vmin <= vmax; got vmin={lo:g}, vmax={hi:g}")
     if hi - lo <= max(atol, rtol * max(abs(lo), abs(hi))):
@@ -138,8 +158,7 @@ def f3(x, tol=ZERO_TOL):
     Cons: no magnitude at all; parabolic lines are thin and may fall between vertices.
     """
     x = _values(x)
-    if tol < 0:
-        raise ValueError(f"tol must be >= 0; got {tol}")
+    tol = as_number(tol, "tol", minimum=0)
     return np.where(x > tol, 1.0, np.where(x < -tol, 0.0, 0.5))
 
 
@@ -150,7 +169,9 @@ def symmetric(x, vmax=None):
     Cons: a surface whose curvature is all of one sign uses only half the ramp.
     """
     x = _values(x)
-    m = np.max(np.abs(x)) if vmax is None else float(vmax)
+    if vmax is None:
+        _range_needs_values(x, "symmetric", "vmax")
+    m = np.max(np.abs(x)) if vmax is None else as_number(vmax, "vmax", minimum=0)
     if m <= 0:
         return np.full(x.shape, 0.5)
     return np.clip(0.5 + 0.5 * x / m, 0.0, 1.0)
@@ -167,10 +188,17 @@ def percentile(x, lower=2.0, upper=98.0, *, vmin=None, vmax=None):
     x = _values(x)
     if vmin is not None and vmax is not None:  # the percentiles, found before (see map_range)
         return f2(x, vmin, vmax)
-    if not 0 <= lower < upper <= 100:
-        raise ValueError(f"percentiles must satisfy 0 <= lower < upper <= 100; got {lower}, {upper}")
+    lower, upper = _percentiles(lower, upper)
+    _range_needs_values(x, "percentile", "vmin and vmax")
     lo, hi = np.percentile(x, [lower, upper])
     return f2(x, lo, hi)
+
+
+def _percentiles(lower, upper):
+    lower, upper = as_number(lower, "lower", minimum=0, maximum=100), as_number(upper, "upper", minimum=0, maximum=100)
+    if not lower < upper:
+        raise ValueError(f"percentiles must satisfy 0 <= lower < upper <= 100; got {lower}, {upper}")
+    return lower, upper
 
 
 def signed_log(x, scale=None, vmax=None):
@@ -184,10 +212,10 @@ def signed_log(x, scale=None, vmax=None):
     """
     x = _values(x)
     a = np.abs(x)
-    M = (np.max(a) if a.size else 0.0) if vmax is None else float(vmax)
+    M = (np.max(a) if a.size else 0.0) if vmax is None else as_number(vmax, "vmax", minimum=0)
     if M <= 0:
         return np.full(x.shape, 0.5)
-    s = float(np.median(a)) if scale is None else float(scale)
+    s = float(np.median(a)) if scale is None else as_number(scale, "scale", minimum=0)
     if s <= 0:
         s = M * 1e-3
     return 0.5 + 0.5 * np.sign(x) * np.log1p(a / s) / np.log1p(M / s)
@@ -224,6 +252,7 @@ def dill_names(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
 
 def _dill_band(x, vmin, vmax):
     x = _values(x)
+    vmin, vmax = as_number(vmin, "vmin"), as_number(vmax, "vmax")
     if not vmin < vmax:
         raise ValueError(f"dill needs vmin < vmax; got vmin={vmin:g}, vmax={vmax:g}")
     return np.clip(np.floor(5.0 * (x - vmin) / (vmax - vmin)).astype(int), 0, 4)
@@ -306,9 +335,7 @@ def map_range(name, values, **options):
     elif name == "symmetric":
         options.setdefault("vmax", float(np.max(np.abs(x))))
     elif name == "percentile":
-        lower, upper = options.pop("lower", 2.0), options.pop("upper", 98.0)
-        if not 0 <= lower < upper <= 100:
-            raise ValueError(f"percentiles must satisfy 0 <= lower < upper <= 100; got {lower}, {upper}")
+        lower, upper = _percentiles(options.pop("lower", 2.0), options.pop("upper", 98.0))
         lo, hi = np.percentile(x, [lower, upper])
         options.update(vmin=float(lo), vmax=float(hi))
     elif name == "signed-log":

@@ -169,12 +169,14 @@ def unit_normal(bu, bv):
     return N, degenerate
 
 
-def fundamental_forms(d):
+def fundamental_forms(d, N=None):
     """First and second fundamental forms from a :class:`~lab.derivatives.Derivatives` record.
 
-    Returns a :class:`FundamentalForms`; ``e, f, g`` and ``N`` are NaN at degenerate points.
+    Returns a :class:`FundamentalForms`; ``e, f, g`` and ``N`` are NaN at degenerate points unless the
+    normal ``N`` is given (e.g. its limit there, :func:`normal_limits`).
     """
-    N, _ = unit_normal(d.bu, d.bv)
+    if N is None:
+        N, _ = unit_normal(d.bu, d.bv)
     return FundamentalForms(
         _dot(d.bu, d.bu),
         _dot(d.bu, d.bv),
@@ -238,7 +240,8 @@ def shape_operator(d):
     Q = (bu[1] * bv[2] - bu[2] * bv[1], bu[2] * bv[0] - bu[0] * bv[2], bu[0] * bv[1] - bu[1] * bv[0])
     W2 = _dot3(Q, Q)
     E, F, G = _dot3(bu, bu), _dot3(bu, bv), _dot3(bv, bv)
-    degenerate = W2 <= (DEGENERATE_RTOL * (E + G)) ** 2
+    # NaN or inf derivatives (a function undefined there) are flagged as well: no curvature, never a silent NaN
+    degenerate = (W2 <= (DEGENERATE_RTOL * (E + G)) ** 2) | ~np.isfinite(W2)
     with np.errstate(invalid="ignore", divide="ignore"):
         W2 = np.where(degenerate, np.nan, W2)
         W = np.sqrt(W2)
@@ -369,6 +372,40 @@ def fill_degenerate(curv, samples, *, rtol=1e-6):
     return Curvature(K, H, k1, k2, mask.copy())
 
 
+def normal_limits(N, degenerate, u, v, centre, derivatives_at):
+    """``N`` with its degenerate entries replaced by the limit of the unit normal approached from inside.
+
+    The normals at the first run of :data:`APPROACH_STEPS` towards ``centre``
+    are extrapolated to the point (as the curvature in :func:`fill_degenerate`)
+    and normalised; NaN where the approach meets degenerate points too.  Warns
+    once with :class:`DegeneratePointWarning`.  ``derivatives_at(uu, vv)``
+    returns the derivatives at approach points of shape ``(k, len(APPROACH_STEPS))``.
+    """
+    degenerate = np.asarray(degenerate)
+    if not np.any(degenerate):
+        return N
+    shape = degenerate.shape
+    flat = np.array(np.reshape(N, (-1, 3)), dtype=float)
+    index = np.flatnonzero(degenerate)
+    uu, vv = approach_points(np.broadcast_to(u, shape).reshape(-1)[index],
+                             np.broadcast_to(v, shape).reshape(-1)[index], centre)
+    d = derivatives_at(uu, vv)
+    n = len(APPROACH_RUNS[0])
+    Ns, bad = unit_normal(d.bu[:, :n], d.bv[:, :n])
+    limit = np.einsum("kti,t->ki", Ns, _W6)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        limit /= np.linalg.norm(limit, axis=-1, keepdims=True)
+    limit[np.any(bad, axis=-1)] = np.nan
+    flat[index] = limit
+    n_bad = int(np.count_nonzero(~np.all(np.isfinite(limit), axis=-1)))
+    msg = (f"{index.size} degenerate point(s) (b_u x b_v = 0, e.g. a pole): the normal there is its limit from "
+           "inside the domain")
+    if n_bad:
+        msg += f"; at {n_bad} of them it has no limit and is NaN"
+    warnings.warn(msg, DegeneratePointWarning, stacklevel=3)
+    return flat.reshape(np.shape(N))
+
+
 def with_limits(curv, u, v, centre, derivatives_at):
     """Fill the degenerate entries of ``curv`` with limits, sampling through ``derivatives_at``.
 
@@ -430,4 +467,6 @@ def zero_tolerance(mode, size):
     rounding noise scales with them, so the tolerance does too.
     """
     power = 2 if CurvatureMode(mode) in (CurvatureMode.GAUSSIAN, CurvatureMode.STRAIN_ENERGY) else 1
-    return ZERO_TOL / max(size, 1e-300) ** power
+    scale = float(size) ** power
+    # a model that is one point (size 0, or so small that the power underflows) has no length to scale by
+    return ZERO_TOL / scale if scale > 0 else ZERO_TOL

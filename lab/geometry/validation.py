@@ -5,6 +5,7 @@ Each helper checks one kind of argument once and raises a ``ValueError`` or
 that messages are uniform across the library and can be pinned by tests.
 """
 
+import math
 import numbers
 import os
 
@@ -14,6 +15,7 @@ __all__ = [
     "MEMORY_FRACTION",
     "as_choice",
     "as_control_net",
+    "as_number",
     "as_parameter_vector",
     "as_parameters",
     "as_positive_int",
@@ -22,17 +24,32 @@ __all__ = [
     "check_memory",
     "choice_name",
     "format_bytes",
+    "format_count",
     "memory_limit",
     "set_memory_limit",
 ]
 
 
+#: Largest coordinate of a control net: the fundamental forms hold 4th powers of the derivatives
+#: (|b_u x b_v|^2), which overflow past about 1e77; 1e60 leaves room for the degree factors.
+COORDINATE_MAX = 1e60
+#: Smallest non-zero extent of a control net, for the same reason (underflow below about 1e-77).
+EXTENT_MIN = 1e-60
+#: Largest ratio of the largest to the smallest weight, and the range of the weights themselves.
+WEIGHT_RATIO_MAX, WEIGHT_RANGE = 1e60, (1e-100, 1e100)
+
+
 def _as_float_array(value, name):
-    if isinstance(value, (str, bytes)):
-        raise TypeError(f"{name} must be an array of numbers; got {type(value).__name__}")
+    if isinstance(value, (str, bytes)) or value is None:
+        raise TypeError(f"{name} must be an array of numbers; got {type(value).__name__} {value!r}")
     try:
-        arr = np.asarray(value, dtype=float)
+        raw = np.asarray(value)
+        if raw.dtype.kind == "c":
+            raise TypeError(f"{name} must be real numbers; got complex values (the imaginary part would be dropped)")
+        arr = raw.astype(float)
     except (TypeError, ValueError) as exc:
+        if "complex values" in str(exc):
+            raise
         raise TypeError(f"{name} must be an array of numbers; got {type(value).__name__} ({exc})") from None
     return arr
 
@@ -61,6 +78,16 @@ def as_control_net(P, name="control net", batch=False, dim=3):
         raise ValueError(f"{name} must have shape {shape_txt}; got {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite values; got NaN or inf")
+    big = float(np.max(np.abs(arr)))
+    if big > COORDINATE_MAX:
+        raise ValueError(f"{name} must have coordinates of at most {COORDINATE_MAX:g}, beyond which the fundamental "
+                         f"forms overflow (they hold 4th powers of the derivatives); got coordinates up to {big:.3g}: "
+                         "scale the net down (curvature scales by the inverse factor)")
+    extent = float(np.max(np.ptp(arr.reshape(-1, arr.shape[-1]), axis=0)))
+    if 0 < extent < EXTENT_MIN:
+        raise ValueError(f"{name} has an extent of only {extent:.3g}; below {EXTENT_MIN:g} the fundamental forms "
+                         "underflow to 0 and every point would look degenerate: scale the net up (curvature scales "
+                         "by the inverse factor)")
     return arr
 
 
@@ -75,6 +102,11 @@ def as_weights(weights, shape, name="weights"):
         raise ValueError(f"{name} must contain only finite values; got NaN or inf")
     if np.any(w <= 0):
         raise ValueError(f"{name} must be positive; got minimum {w.min():g}")
+    lo, hi = float(w.min()), float(w.max())
+    if hi / lo > WEIGHT_RATIO_MAX or lo < WEIGHT_RANGE[0] or hi > WEIGHT_RANGE[1]:
+        raise ValueError(f"{name} must lie within a ratio of {WEIGHT_RATIO_MAX:g} and in [{WEIGHT_RANGE[0]:g}, "
+                         f"{WEIGHT_RANGE[1]:g}]; got weights from {lo:.3g} to {hi:.3g}: the rational derivatives "
+                         "would overflow (multiplying all weights by one factor leaves the surface unchanged)")
     return w
 
 
@@ -115,12 +147,46 @@ def _in_interval(arr, interval, name, atol):
     return np.clip(arr, lo, hi) if (low < lo or high > hi) else arr
 
 
-def as_positive_int(value, name, minimum=0):
-    """Return ``value`` as an int >= ``minimum``."""
+def as_number(value, name, *, positive=False, minimum=None, maximum=None):
+    """Return ``value`` as a finite float, checked once for every public number parameter.
+
+    Python and numpy reals (and 0-d real arrays) are accepted; ``bool``,
+    strings, ``None`` and complex numbers are a ``TypeError`` naming ``name``,
+    NaN, inf and values out of range a ``ValueError``.
+
+    Parameters
+    ----------
+    positive : bool
+        Require ``value > 0``.
+    minimum, maximum : float, optional
+        Require ``minimum <= value <= maximum``.
+    """
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        value = value[()]
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number; got {type(value).__name__} {value!r}")
+    x = float(value)
+    wanted = "a positive number" if positive else "a finite number"
+    if minimum is not None and maximum is not None:
+        wanted = f"in [{minimum:g}, {maximum:g}]"
+    elif minimum is not None:
+        wanted = f">= {minimum:g}"
+    elif maximum is not None:
+        wanted = f"<= {maximum:g}"
+    if not np.isfinite(x) or (positive and not x > 0) or (minimum is not None and x < minimum) or (
+            maximum is not None and x > maximum):
+        raise ValueError(f"{name} must be {wanted}; got {value!r}")
+    return x
+
+
+def as_positive_int(value, name, minimum=0, maximum=None):
+    """Return ``value`` as an int >= ``minimum`` (and <= ``maximum``)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be an integer; got {type(value).__name__} {value!r}")
     if value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}; got {value}")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"{name} must be an integer from {minimum} to {maximum}; got {value}")
     return int(value)
 
 
@@ -192,8 +258,19 @@ def _as_bytes(value, name="memory limit"):
     return int(value)
 
 
+def format_count(n):
+    """A count as a short text, exact up to 10**15, else ``'1.73e+361'`` (even past float range and
+    Python's limit on digits for int-to-string conversion)."""
+    if n < 10**15:
+        return str(int(n))
+    exponent = math.log10(n)  # math.log10 takes ints of any size
+    return f"{10 ** (exponent % 1):.3g}e+{int(exponent)}"
+
+
 def format_bytes(n):
     """``n`` bytes as a short text: ``'1.5 GiB'``."""
+    if n >= 2**60:  # beyond a million TiB; n / size of a huge int would overflow a float
+        return f"{format_count(n)} B"
     for unit, size in (("TiB", 2**40), ("GiB", 2**30), ("MiB", 2**20), ("KiB", 2**10)):
         if n >= size:
             return f"{n / size:.3g} {unit}"

@@ -67,7 +67,8 @@ K_ZERO_RTOL = 1e-9
 
 
 class FocalSheetWarning(UserWarning):
-    """Vertices of a classical focal sheet were dropped because their principal curvature is (near) zero."""
+    """Vertices of a classical focal sheet were dropped because their principal curvature is (near) zero, or
+    points of a focal surface are not finite."""
 
 
 # -- input ----------------------------------------------------------------------------
@@ -140,6 +141,23 @@ def _normals(mesh):
     return N / np.linalg.norm(N, axis=1, keepdims=True)
 
 
+#: Worst case of one level-line pass (isophotes, reflection lines): a segment on every triangle (two points and
+#: its cell; a quadrilateral cell is two triangles) and the level's values; of the stripe map: each triangle cut
+#: by every stripe border of a face (2 n_stripes + 1 pieces), a piece's row with its triangle and labels.
+LEVEL_BYTES_PER_TRIANGLE, LEVEL_BYTES_PER_POINT, STRIPE_BYTES_PER_PIECE = 64, 16, 400
+#: At most this many levels or stripes: more than a picture can tell apart, and each costs a pass over the mesh.
+MAX_LEVELS = 1000
+
+
+def _check_levels(count, mesh, name, what, per_level=None):
+    """``count`` in 1 … MAX_LEVELS, refused first if ``count * per_level`` bytes (a level pass) are too many."""
+    count = _v.as_positive_int(count, name, minimum=1, maximum=MAX_LEVELS)
+    per_level = LEVEL_BYTES_PER_TRIANGLE * 2 * mesh.n_cells + LEVEL_BYTES_PER_POINT * mesh.n_points \
+        if per_level is None else per_level
+    _v.check_memory(count * per_level, f"{what}({name}={count}) on a mesh of {mesh.n_cells} cells")
+    return count
+
+
 def _diagonal(points):
     return float(np.linalg.norm(np.ptp(points, axis=0)))
 
@@ -152,16 +170,6 @@ def _as_direction(value, name):
     if norm == 0:
         raise ValueError(f"{name} must be a non-zero vector; got {tuple(float(x) for x in d)}")
     return d / norm
-
-
-def _as_positive_float(value, name):
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a number; got {type(value).__name__} {value!r}") from None
-    if not (np.isfinite(x) and x > 0):
-        raise ValueError(f"{name} must be a positive number; got {value!r}")
-    return x
 
 
 def _eye_or_view(eye, view):
@@ -256,24 +264,27 @@ def focal_surface(surface, scale=1.0, function="mean", *, resolution=None):
         The same cells as the tessellated surface, vertices moved to F.  Point
         data: the input's (``K, H, k1, k2, N``, ...), plus ``f`` (the function
         value), ``displacement`` (``scale * f``, signed along N) and ``X`` (the
-        surface point).  Field data ``scale`` and ``function`` (its name).
+        surface point), ``finite`` (False where f or the scale gave no finite point: warned).  Field data ``scale``
+        and ``function`` (its name).
     """
     mesh = as_curvature_mesh(surface, resolution)
     f_callable = _focal.focal_function(function)
-    try:
-        a = float(scale)
-    except (TypeError, ValueError):
-        raise TypeError(f"scale must be a number; got {type(scale).__name__} {scale!r}") from None
-    if not np.isfinite(a):
-        raise ValueError(f"scale must be finite; got {scale!r}")
+    a = _v.as_number(scale, "scale")
     X = np.asarray(mesh.points, dtype=float)
     N = _normals(mesh)
     F, f = _focal.focal_points(X, N, mesh.point_data["k1"], mesh.point_data["k2"], a, f_callable)
+    finite = np.all(np.isfinite(F), axis=1)
+    if not finite.all():
+        bad = int(np.count_nonzero(~finite))
+        warnings.warn(f"{bad} of {len(F)} focal points are not finite (the function f gave inf or NaN there, or the "
+                      "scale overflowed); they are marked False in the point data 'finite'", FocalSheetWarning,
+                      stacklevel=2)
     out = mesh.copy(deep=True)
     out.points = F
     out.point_data["f"] = f
     out.point_data["displacement"] = a * f
     out.point_data["X"] = X
+    out.point_data["finite"] = finite
     out.field_data["scale"] = np.array([a])
     if isinstance(function, str):
         name = getattr(function, "value", function)
@@ -314,7 +325,7 @@ def focal_sheets(surface, *, tol=None, resolution=None, warn=True):
     if tol is None:
         tol = 1.0 / (MAX_RADIUS_FACTOR * max(_diagonal(X), 1e-300))
     else:
-        tol = _as_positive_float(tol, "tol")
+        tol = _v.as_number(tol, "tol", positive=True)
     N = _normals(mesh)
     sheets = []
     for name in ("k1", "k2"):
@@ -363,9 +374,7 @@ def parabolic_lines(surface, *, tol=None, resolution=None):
     if tol is None:
         tol = K_ZERO_RTOL / max(_diagonal(X), 1e-300) ** 2
     else:
-        tol = float(tol)
-        if not (np.isfinite(tol) and tol >= 0):
-            raise ValueError(f"tol must be a non-negative number; got {tol!r}")
+        tol = _v.as_number(tol, "tol", minimum=0)
     lines = _focal.parabolic_lines(X, _triangles(mesh), mesh.point_data["K"], tol)
     return _lines_mesh([((i,), [line]) for i, line in enumerate(lines)], ("line",))
 
@@ -404,7 +413,7 @@ def stripe_mapping(surface, *, n_stripes=8, eye=None, view=None, margin=0.5, axe
     ----------
     surface : lab.Surface, lab.BezierPatches or pyvista.PolyData
     n_stripes : int
-        Coloured stripes per box face (>= 1).
+        Coloured stripes per box face (1 … 1000).
     eye : (3,) array_like, optional
         Eye point.
     view : (3,) array_like, optional
@@ -442,8 +451,8 @@ def stripe_mapping(surface, *, n_stripes=8, eye=None, view=None, margin=0.5, axe
 
     method = _v.as_choice(method, ("exact", "paper"), "method")
     mesh = as_curvature_mesh(surface, resolution)
-    n_stripes = _v.as_positive_int(n_stripes, "n_stripes", minimum=1)
-    margin = _as_positive_float(margin, "margin")
+    n_stripes = _check_levels(n_stripes, mesh, "n_stripes", "stripe_mapping", 2 * STRIPE_BYTES_PER_PIECE * 2 * mesh.n_cells)
+    margin = _v.as_number(margin, "margin", positive=True)
     axes_arr = np.asarray(axes)
     bad_axes = axes_arr.shape != (6,) or not np.issubdtype(axes_arr.dtype, np.integer)
     if bad_axes or np.any((axes_arr < 0) | (axes_arr > 2)):
@@ -501,7 +510,7 @@ def reflection_lines(surface, direction=(1.0, 0.0, 0.0), count=9, *, spacing=Non
     direction : (3,) array_like
         Direction of the light lines; its component along ``plane_normal`` is removed.
     count : int
-        Number of light lines (>= 1).
+        Number of light lines (1 … 1000).
     spacing : float, optional
         Distance between light lines; default: the plane's extent across the
         lines (3 × the diagonal) divided by ``count``.
@@ -522,7 +531,7 @@ def reflection_lines(surface, direction=(1.0, 0.0, 0.0), count=9, *, spacing=Non
         line to the next), ``spacing``.
     """
     mesh = as_curvature_mesh(surface, resolution)
-    count = _v.as_positive_int(count, "count", minimum=1)
+    count = _check_levels(count, mesh, "count", "reflection_lines")
     n = _as_direction(plane_normal, "plane_normal")
     d = _as_direction(direction, "direction")
     d = d - (d @ n) * n
@@ -534,8 +543,8 @@ def reflection_lines(surface, direction=(1.0, 0.0, 0.0), count=9, *, spacing=Non
     diag = _diagonal(X)
     if diag == 0:
         raise ValueError("the surface has zero extent")
-    height = diag if height is None else _as_positive_float(height, "height")
-    spacing = 3.0 * diag / count if spacing is None else _as_positive_float(spacing, "spacing")
+    height = diag if height is None else _v.as_number(height, "height", positive=True)
+    spacing = 3.0 * diag / count if spacing is None else _v.as_number(spacing, "spacing", positive=True)
     w = np.cross(n, d)
     centre = 0.5 * (X.min(axis=0) + X.max(axis=0))
     top = np.max(X @ n)
@@ -570,7 +579,7 @@ def isophotes(surface, light=(0.0, 0.0, 1.0), count=9, *, resolution=None):
     light : (3,) array_like
         Light direction L (non-zero).
     count : int
-        Number of isophote levels (>= 1).
+        Number of isophote levels (1 … 1000).
     resolution : int, optional
 
     Returns
@@ -580,7 +589,7 @@ def isophotes(surface, light=(0.0, 0.0, 1.0), count=9, *, resolution=None):
     """
     mesh = as_curvature_mesh(surface, resolution)
     L = _as_direction(light, "light")
-    count = _v.as_positive_int(count, "count", minimum=1)
+    count = _check_levels(count, mesh, "count", "isophotes")
     X = np.asarray(mesh.points, dtype=float)
     T = _triangles(mesh)
     values = _normals(mesh) @ L

@@ -72,7 +72,7 @@ def _refine(P, w, grid, num):
             else:
                 sl = slice(i0 * cols + j0, i0 * cols + j1)
             Q, Qw = P[sl], None if w is None else w[sl]
-            for _ in range(num):
+            for _level in range(num):
                 Q, Qw = bezier._subdivide(Q, 0.5, 0.5, Qw)  # (k, 2, 2, ...): the four halves of each
                 Q = Q.reshape((-1,) + tail_P)
                 Qw = None if Qw is None else Qw.reshape((-1,) + tail_w)
@@ -205,7 +205,9 @@ class BezierPatches:
         self._P = P
         self._w = _v.as_weights(weights, P.shape[:3])
         if grid_shape is not None:
-            grid_shape = tuple(int(x) for x in grid_shape)
+            if isinstance(grid_shape, (str, bytes)) or np.ndim(grid_shape) != 1:
+                raise TypeError(f"grid_shape must be (rows, columns), two integers; got {grid_shape!r}")
+            grid_shape = tuple(_v.as_positive_int(x, "grid_shape entry", minimum=1) for x in grid_shape)
             if len(grid_shape) != 2 or grid_shape[0] * grid_shape[1] != len(P):
                 raise ValueError(f"grid_shape must be (rows, columns) with rows * columns = {len(P)} patches; "
                                  f"got {grid_shape}")
@@ -282,7 +284,7 @@ class BezierPatches:
         """
         num = _v.as_positive_int(num, "num", minimum=0)
         n_final = len(self) * 4**num
-        _v.check_memory(self.refine_bytes(num), f"refine({num}) of {len(self)} patches ({n_final} patches)",
+        _v.check_memory(self.refine_bytes(num), f"refine({num}) of {len(self)} patches ({_v.format_count(n_final)} patches)",
                         memory_limit)
         if num:
             self._P, self._w, self._grid = _refine(self._P, self._w, self._grid, num)

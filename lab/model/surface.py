@@ -7,6 +7,7 @@ against each other and results carry the broadcast shape (plus a trailing
 coordinate axis for points and vectors).
 """
 
+import warnings
 from typing import ClassVar
 
 import numpy as np
@@ -143,13 +144,15 @@ class Surface:
         return b
 
     def normal(self, u, v):
-        """Unit normal ``b_u x b_v / |b_u x b_v|`` (NaN at degenerate points)."""
-        _, _, (N,) = self.sample(lambda d: (_curv.unit_normal(d.bu, d.bv)[0],), u, v, bytes_per_point=60)
-        return N
+        """Unit normal ``b_u x b_v / |b_u x b_v|``; at degenerate points (a pole) its limit from inside, with a
+        :class:`~lab.curvature.DegeneratePointWarning` (see :func:`lab.curvature.normal_limits`)."""
+        u, v, (N, degenerate) = self.sample(lambda d: _curv.unit_normal(d.bu, d.bv), u, v, bytes_per_point=61)
+        return _curv.normal_limits(N, degenerate, u, v, self.centre, self._derivatives)
 
     def fundamental_forms(self, u, v):
-        """First and second fundamental forms, see :func:`lab.curvature.fundamental_forms`."""
-        return _curv.fundamental_forms(self.derivatives(u, v))
+        """First and second fundamental forms, see :func:`lab.curvature.fundamental_forms`; at degenerate points
+        ``e, f, g`` and ``N`` are taken with the limit of the normal (:meth:`normal`)."""
+        return _curv.fundamental_forms(self.derivatives(u, v), N=self.normal(u, v))
 
     @property
     def centre(self):
@@ -477,7 +480,17 @@ class ParametricSurface(Surface):
         return surface
 
     def _derivatives(self, u, v):
-        return self._func(u, v)
+        d = self._func(u, v)
+        finite = np.all(np.isfinite(d.bu) & np.isfinite(d.bv), axis=-1)
+        if not np.all(finite):
+            k = np.unravel_index(np.flatnonzero(~finite)[0], finite.shape)
+            u0, v0 = np.broadcast_to(u, finite.shape)[k], np.broadcast_to(v, finite.shape)[k]
+            warnings.warn(
+                f"{self.name}: the derivatives are not finite at {int(np.count_nonzero(~finite))} of {finite.size} "
+                f"point(s), e.g. (u, v) = ({u0:.6g}, {v0:.6g}): the function is not defined or not differentiable "
+                "there; curvature there is NaN and marked in the 'degenerate' mask", _curv.DegeneratePointWarning,
+                stacklevel=3)
+        return d
 
     def _defining(self):
         return (self._func, self.domain, self.periodic)

@@ -9,6 +9,7 @@ Every factory returns a surface object with the common interface of
 
 import numpy as np
 
+from ..geometry.validation import as_number
 from .surface import BezierSurface, BSplineSurface, ParametricSurface
 
 __all__ = [
@@ -75,6 +76,7 @@ def practical():
 
 def plane(size=1.0):
     """The square ``[0, size]^2`` in the plane z = 0 as a bilinear Bézier patch (K = H = 0)."""
+    size = as_number(size, "size", positive=True)
     P = np.array([[[0, 0, 0], [0, size, 0]], [[size, 0, 0], [size, size, 0]]], dtype=float)
     return BezierSurface(P)
 
@@ -104,9 +106,7 @@ def sphere(radius=1.0):
     where the curvature is the limit from inside).  The normal points outwards,
     so with the practical's convention ``H = k1 = k2 = -1/radius`` and ``K = 1/radius²``.
     """
-    r = float(radius)
-    if not r > 0:
-        raise ValueError(f"radius must be positive; got {radius}")
+    r = as_number(radius, "radius", positive=True)
     profile = r * np.array([[0, -1], [1, -1], [1, 0], [1, 1], [0, 1]], dtype=float)
     w = np.array([1, _S, 1, _S, 1])
     knots = np.array([0, 0, 0, 0.5, 0.5, 1, 1, 1])
@@ -164,8 +164,8 @@ def torus(R=2.0, r=1.0):
     on the inside and K = 0 on the top and bottom rims (Dill, figure 7):
     ``K = cos(t) / (r (R + r cos(t)))`` where ``t`` is the angle around the tube.
     """
-    R, r = float(R), float(r)
-    if not (r > 0 and R > r):
+    R, r = as_number(R, "R", positive=True), as_number(r, "r", positive=True)
+    if not R > r:
         raise ValueError(f"torus needs R > r > 0; got R={R}, r={r}")
     profile = np.column_stack([R + r * _CIRCLE_XY[:, 0], r * _CIRCLE_XY[:, 1]])
     s = _revolve(profile, _CIRCLE_W, _CIRCLE_KNOTS, 2, profile_first=True)
@@ -179,9 +179,7 @@ def cylinder(r=1.0, h=2.0):
     u runs around the axis, v up; the normal points outwards, so
     ``K = 0`` and ``H = -1/(2r)``.
     """
-    r, h = float(r), float(h)
-    if not (r > 0 and h > 0):
-        raise ValueError(f"cylinder needs r > 0 and h > 0; got r={r}, h={h}")
+    r, h = as_number(r, "r", positive=True), as_number(h, "h", positive=True)
     profile = np.array([[r, 0.0], [r, h]])
     s = _revolve(profile, np.ones(2), np.array([0.0, 0, 1, 1]), 1, profile_first=False)
     s.periodic = (True, False)
@@ -194,6 +192,7 @@ def cone(radius=1.0, height=1.0):
     The mean curvature grows like 1/distance towards the apex, so there the
     curvature has no finite limit: the points are reported as degenerate.
     """
+    radius, height = as_number(radius, "radius", positive=True), as_number(height, "height", positive=True)
     arc = np.array([[radius, 0, 0], [radius, radius, 0], [0, radius, 0]], dtype=float)
     apex = np.array([0.0, 0.0, height])
     P = np.stack([arc, np.repeat(apex[None], 3, 0)], axis=1)  # (3, 2, 3): u along the arc
@@ -210,10 +209,8 @@ def catenoid(c=1.0, height=None):
     """
     import sympy as sp
 
-    c = sp.nsimplify(c)
-    if not c > 0:
-        raise ValueError(f"c must be positive; got {c}")
-    half = 1.5 * c if height is None else sp.nsimplify(height) / 2
+    c = sp.nsimplify(as_number(c, "c", positive=True))
+    half = 1.5 * c if height is None else sp.nsimplify(as_number(height, "height", positive=True)) / 2
     u, v = sp.symbols("u v", real=True)
     xyz = (c * sp.cosh(v / c) * sp.cos(u), c * sp.cosh(v / c) * sp.sin(u), v)
     s = ParametricSurface.from_sympy(xyz, (u, v), ((0, 2 * sp.pi), (-half, half)), name="catenoid")
@@ -266,7 +263,8 @@ def sine_wave(amplitude=0.5, frequency=1.0, radius=2 * np.pi):
     import sympy as sp
 
     rho, phi = sp.symbols("rho phi", real=True)
-    A, w = sp.nsimplify(amplitude), sp.nsimplify(frequency)
+    A, w = sp.nsimplify(as_number(amplitude, "amplitude")), sp.nsimplify(as_number(frequency, "frequency"))
+    radius = as_number(radius, "radius", positive=True)
     xyz = (rho * sp.cos(phi), rho * sp.sin(phi), A * sp.cos(w * rho))
     s = ParametricSurface.from_sympy(xyz, (rho, phi), ((0, float(radius)), (0, 2 * sp.pi)), name="sine wave")
     s.periodic = (False, True)

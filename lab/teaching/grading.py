@@ -202,6 +202,10 @@ def read_submission(path):
         raw = read_file(path, MAX_NOTEBOOK)
     except UntrustedError as exc:
         raise ValueError(str(exc)) from None
+    head = raw[:4096].lstrip()
+    if head and not head.startswith(b"{"):  # nbformat would fail on .get of a list: say what the file is
+        kind = {b"[": "a JSON list", b'"': "a JSON string"}.get(head[:1], "no JSON object")
+        raise ValueError(f"not a notebook: a notebook is a JSON object with 'cells' (nbformat 4); the file holds {kind}")
     try:
         nb = nbformat.reads(raw.decode("utf-8"), as_version=4)
         nbformat.validate(nb)

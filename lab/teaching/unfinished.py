@@ -43,8 +43,7 @@ _state = _State()
 
 
 def _library_file(filename):
-    return (filename.startswith(_LAB_DIR) or "site-packages" in filename or filename.startswith(sys.prefix)
-            or filename.startswith(sys.base_prefix))
+    return filename.startswith((_LAB_DIR, sys.prefix, sys.base_prefix)) or "site-packages" in filename
 
 
 def _last_frame(exc):

@@ -14,11 +14,12 @@ import os
 import numpy as np
 import pyvista as pv
 
+from ..geometry import validation as _v
 from ..interrogation.reflection import VIEW_DIRECTION
+from ..model.patches import BezierPatches
 from . import style
 from .legend import Legend
 from .legend import legend as make_legend
-from ..model.patches import BezierPatches
 
 __all__ = [
     "VIEW_DIRECTION",
@@ -167,6 +168,20 @@ def _add_flat(plotter, mesh, edges):
     plotter.add_mesh(mesh, show_edges=edges, ambient=0.3, diffuse=0.7, specular=0.0, smooth_shading=False, **colors)
 
 
+#: A picture's memory per pixel: VTK's colour and depth buffers, the RGB copy read back, the composed frame and
+#: the PNG encoder's copy (a 100000 x 100000 window ended in std::bad_alloc inside VTK).
+PICTURE_BYTES_PER_PIXEL = 24
+
+
+def _window(size, name="window_size"):
+    """``size`` as (width, height) of at least 16 pixels each, refused before VTK allocates if too big."""
+    if isinstance(size, (str, bytes)) or np.ndim(size) != 1 or len(size) != 2:
+        raise TypeError(f"{name} must be (width, height) in pixels; got {size!r}")
+    w, h = (int(_v.as_number(x, f"{name} entry", minimum=16)) for x in size)
+    _v.check_memory(PICTURE_BYTES_PER_PIXEL * w * h, f"a {w} x {h} picture ({name})")
+    return w, h
+
+
 def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None, camera=None, background="white",
                 shading="smooth"):
     """The bare 3D view of ``mesh`` in the lab's style (no frame), ``size`` = (width, height); RGB array.
@@ -174,8 +189,9 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
     ``shading="flat"`` draws ``mesh`` (with cell colours) as Dill did: flat polygons lit by one light at the eye.
     ``lines`` (polylines, e.g. reflection lines) are drawn in black over the surface.
     """
+    size = _window(size, "size")
     configure_offscreen()
-    plotter = pv.Plotter(off_screen=True, window_size=[int(size[0]), int(size[1])], lighting="none")
+    plotter = pv.Plotter(off_screen=True, window_size=list(size), lighting="none")
     try:
         plotter.set_background(background)
         if shading == "flat":
@@ -266,7 +282,7 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         chosen = known
     else:
         chosen = None
-    frame = style.layout(window_size, title, chosen)
+    frame = style.layout(_window(window_size), title, chosen)
     net_data = _net_lines(obj) if net and hasattr(obj, "control_points") else None
     view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, lines=lines, direction=direction,
                        camera=camera, shading=shading)
@@ -336,6 +352,7 @@ def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=N
 
     Kept for image references of the mesh colours alone; pictures for people come from :func:`picture`.
     """
+    window_size = _window(window_size)
     configure_offscreen()
     plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
     plotter.set_background("white")

@@ -25,6 +25,8 @@ import math
 import numpy as np
 import pyvista as pv
 
+from ..geometry import validation as _v
+
 __all__ = ["SURFACE_PROPERTIES", "Frame", "apply_lights", "bar_box", "compose", "fit_camera", "layout", "view_direction"]
 
 #: Material of coloured surfaces: mostly ambient and diffuse, a hint of specular.
@@ -64,7 +66,8 @@ def apply_lights(plotter):
 
 
 def _direction(azimuth, elevation):
-    a, e = math.radians(azimuth), math.radians(elevation)
+    a = math.radians(_v.as_number(azimuth, "azimuth"))
+    e = math.radians(_v.as_number(elevation, "elevation", minimum=-90, maximum=90))
     return np.array([math.cos(e) * math.cos(a), math.cos(e) * math.sin(a), math.sin(e)])
 
 

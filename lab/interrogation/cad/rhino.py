@@ -59,7 +59,7 @@ def read_3dm(path, name=None):
                 faces.append(Face(index, kind, _lab_surface(ns)))
                 if kind == "BrepFace":
                     problems.append(Problem(index, kind, "read untrimmed: rhino3dm gives no 2-D trimming curves"))
-            except Exception as exc:  # rhino3dm raises plain RuntimeErrors; report the face, never drop it
+            except Exception as exc:  # noqa: BLE001 - rhino3dm raises plain RuntimeErrors; report the face, never drop it
                 problems.append(Problem(index, kind, f"{type(exc).__name__}: {exc}"))
             index += 1
     if index == 0:

@@ -54,6 +54,10 @@ def _as_paths(fan):
     return sorted(paths, key=lambda p: np.mod(p.angle, 2 * np.pi))
 
 
+#: A curve's sample: its (u, v) and point, kept, and the spline's and the surface evaluation's temporaries.
+ISODISTANCE_BYTES_PER_SAMPLE = 300
+
+
 def polar_isodistance(fan, distances, *, samples_per_angle=8):
     r"""Polar isodistance curves: the points at arc length s_L along every path of a fan (seeds/003 sections 3, 5).
 
@@ -95,6 +99,8 @@ def polar_isodistance(fan, distances, *, samples_per_angle=8):
         raise ValueError(f"distances must be positive finite numbers; got {distances}")
     per = _v.as_positive_int(samples_per_angle, "samples_per_angle", minimum=1)
     n = len(paths)
+    _v.check_memory(ISODISTANCE_BYTES_PER_SAMPLE * dist.size * (n * per + 1),
+                    f"{dist.size} polar isodistance curve(s) of {n} x {per} samples")
     alpha = np.array([np.mod(p.angle, 2 * np.pi) for p in paths])
     wrap = paths[0]._wrap
     out = []

@@ -207,14 +207,38 @@ class Fan:
 # --------------------------------------------------------------------------- public entry points
 
 
+#: A path may be at most this many times the surface's size long: on a closed surface (torus, sphere) no boundary
+#: ends it, and the integrator's work grows with the length (a geodesic of length 1e7 on the torus never ended;
+#: 1000 took 44 s here, so 100 sizes, 870 on the default torus, stay within a minute).
+MAX_LENGTH_PER_SIZE = 100
+
+
+def _check_length_cap(surface, L, kind):
+    """Refuse a length beyond :data:`MAX_LENGTH_PER_SIZE` times the surface's size (its points' bounding box)."""
+    (u0, u1), (v0, v1) = surface.domain
+    U, V = np.meshgrid(np.linspace(u0, u1, 9), np.linspace(v0, v1, 9), indexing="ij")
+    size = float(np.linalg.norm(np.ptp(surface.evaluate(U, V).reshape(-1, 3), axis=0)))
+    if L > MAX_LENGTH_PER_SIZE * size:
+        raise ValueError(
+            f"length must be at most {MAX_LENGTH_PER_SIZE} times the surface's size ({size:.3g}), i.e. "
+            f"<= {MAX_LENGTH_PER_SIZE * size:.3g}; got {L:g}: on a closed surface (a torus, a sphere) no boundary "
+            f"would end the {kind} and it would wind round about {L / max(size, 1e-300):.3g} times")
+
+
+def _check_paths_memory(k, n_samples, kind):
+    """``n_samples`` checked, and ``k`` paths of that many samples refused before anything is allocated if too big."""
+    n_samples = _v.as_positive_int(n_samples, "n_samples", minimum=2)
+    _v.check_memory(k * (PATH_BYTES_PER_SAMPLE * n_samples + PATH_BYTES), f"{k} {kind}(s) of {n_samples} samples each")
+    return n_samples
+
+
 def _prepare(surface, uv, angles, length, kind, rtol, atol, n_samples):
     surface = _check_surface(surface)
     u0, v0 = _check_point(surface, uv, "start point")
     L = _check_length(length)
+    _check_length_cap(surface, L, kind)
     rtol, atol = _check_tolerances(rtol, atol)
-    n_samples = _v.as_positive_int(n_samples, "n_samples", minimum=2)
-    _v.check_memory(len(angles) * (PATH_BYTES_PER_SAMPLE * n_samples + PATH_BYTES), (
-        f"{len(angles)} {kind}(s) of {n_samples} samples each"))
+    n_samples = _check_paths_memory(len(angles), n_samples, kind)
     d = _regular_derivatives(surface, u0, v0, "start point")
     n, duv = _direction(d, angles)  # (k, 3), (k, 2)
     problem = _problem(surface, kind)
@@ -335,10 +359,11 @@ def normal_section(surface, uv, angle, length, *, rtol=RTOL, atol=ATOL, method="
     return _single(surface, uv, angle, length, NORMAL_SECTION, rtol, atol, method, n_samples)
 
 
-def _fan_angles(n_angles, angles):
+def _fan_angles(n_angles, angles, n_samples, kind):
     """The start angles of a fan: 2πk/n, or the given increasing angles within one turn."""
     if angles is None:
         n_angles = _v.as_positive_int(n_angles, "n_angles", minimum=1)
+        _check_paths_memory(n_angles, n_samples, kind)  # before the angles are allocated
         return 2 * np.pi * np.arange(n_angles) / n_angles, True
     a = np.asarray(angles, dtype=float)
     if a.ndim != 1 or a.size < 1 or not np.all(np.isfinite(a)):
@@ -351,7 +376,7 @@ def _fan_angles(n_angles, angles):
 
 
 def _fan(surface, uv, n_angles, length, kind, rtol, atol, n_samples, vectorized, angles=None):
-    angles, full_circle = _fan_angles(n_angles, angles)
+    angles, full_circle = _fan_angles(n_angles, angles, n_samples, kind)
     n_angles = len(angles)
     problem, origin, L, rtol, atol, n_samples, y0, D, cell0 = _prepare(
         surface, uv, angles, length, kind, rtol, atol, n_samples)

@@ -9,6 +9,7 @@ input checks shared by the entry points.
 
 import numpy as np
 
+from ...geometry import validation as _v
 from ...geometry.curvature import unit_normal
 from ...geometry.directions import eigen as _eigen
 from ...model.surface import BezierSurface, BSplineSurface, Surface, _SplineSurface
@@ -504,24 +505,13 @@ def _as_angles(angle):
 
 
 def _check_length(length, name="length"):
-    try:
-        L = float(length)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a number; got {type(length).__name__}") from None
-    if not (np.isfinite(L) and L > 0):
-        raise ValueError(f"{name} must be a positive finite number; got {length}")
-    return L
+    return _v.as_number(length, name, positive=True)
 
 
 def _check_tolerances(rtol, atol):
-    try:
-        rtol, atol = float(rtol), float(atol)
-    except (TypeError, ValueError):
-        raise TypeError(f"rtol and atol must be numbers; got {type(rtol).__name__} and {type(atol).__name__}") from None
-    if not (np.isfinite(rtol) and rtol >= 100 * _EPS):
+    rtol = _v.as_number(rtol, "rtol")
+    if not rtol >= 100 * _EPS:
         raise ValueError(f"rtol must be a finite number >= 100 * machine epsilon ({100 * _EPS:.3g}); got {rtol}")
-    if not (np.isfinite(atol) and atol > 0):
-        raise ValueError(f"atol must be a positive finite number; got {atol}")
-    return rtol, atol
+    return rtol, _v.as_number(atol, "atol", positive=True)
 
 

@@ -1,0 +1,257 @@
+"""Issue 19, item 7: each bad input of the issue's "library and CLI" list gets a clear error naming the parameter,
+what was expected and what was received, or a flag and a warning where the geometry is degenerate."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import lab
+from lab import surfaces
+from lab.geometry import colormaps as C
+from lab.geometry import validation as V
+from lab.geometry.curvature import DegeneratePointWarning
+from lab.interrogation import meshes as I
+from lab.interrogation.meshes import FocalSheetWarning
+
+TOO_MUCH = r"would need about .* of memory, more than the limit of"
+
+
+@pytest.fixture(scope="module")
+def torus():
+    return surfaces.torus()
+
+
+@pytest.fixture(scope="module")
+def small_fan(torus):
+    return lab.geodesic_fan(torus, (0.1, 0.1), 8, 0.5)
+
+
+def cli(*args):
+    return subprocess.run([sys.executable, "-m", "lab.cli", *args], capture_output=True, text=True, timeout=300,
+                          check=False)
+
+
+# -- work that grows with a count is estimated before anything is allocated
+
+
+@pytest.fixture
+def eight_mib():
+    previous = V.set_memory_limit("8M")
+    yield
+    V.set_memory_limit(previous)
+
+
+def test_isophotes_count_is_bounded_and_estimated_first(torus, eight_mib):
+    with pytest.raises(ValueError, match=r"count must be an integer from 1 to 1000; got 1000000000"):
+        I.isophotes(torus, count=10**9)
+    with pytest.raises(ValueError, match=r"isophotes\(count=1000\) on a mesh of \d+ cells " + TOO_MUCH):
+        I.isophotes(torus, count=1000)
+
+
+def test_geodesic_fan_n_angles_is_estimated_before_the_angles(torus):
+    with pytest.raises(ValueError, match=r"1000000000 geodesic\(s\) of 101 samples each " + TOO_MUCH):
+        lab.geodesic_fan(torus, (0.1, 0.1), 10**9, 1.0)
+
+
+def test_polar_isodistance_samples_per_angle_is_estimated_first(small_fan):
+    with pytest.raises(ValueError, match=r"1 polar isodistance curve\(s\) of 8 x 1000000000 samples " + TOO_MUCH):
+        lab.polar_isodistance(small_fan, [0.25], samples_per_angle=10**9)
+
+
+def test_reflection_lines_count_is_bounded_and_estimated_first(torus, eight_mib):
+    with pytest.raises(ValueError, match=r"count must be an integer from 1 to 1000; got 1000000"):
+        I.reflection_lines(torus, count=10**6)
+    with pytest.raises(ValueError, match=r"reflection_lines\(count=900\) on a mesh of \d+ cells " + TOO_MUCH):
+        I.reflection_lines(torus, count=900)
+
+
+def test_stripe_mapping_n_stripes_is_bounded_and_estimated_first(torus, eight_mib):
+    with pytest.raises(ValueError, match=r"n_stripes must be an integer from 1 to 1000; got 1000000000"):
+        I.stripe_mapping(torus, n_stripes=10**9)
+    with pytest.raises(ValueError, match=r"stripe_mapping\(n_stripes=500\) on a mesh of \d+ cells " + TOO_MUCH):
+        I.stripe_mapping(torus, n_stripes=500)
+
+
+def test_a_geodesic_on_the_closed_torus_is_bounded(torus):
+    with pytest.raises(ValueError, match=r"length must be at most 100 times the surface's size \(8\.72\), i\.e\. "
+                                         r"<= 872; got 1e\+07: on a closed surface .* wind round about 1\.15e\+06"):
+        lab.geodesic(torus, (0.1, 0.1), 0.3, 1e7)
+
+
+def test_curvature_at_a_huge_broadcast_view_is_refused_by_its_estimate(torus):
+    u = np.broadcast_to(0.1, (10**5, 10**5))  # a view: no memory behind it
+    with pytest.raises(ValueError, match=r"evaluating the surface on a 100000 x 100000 grid " + TOO_MUCH):
+        torus.curvature(u, u)
+
+
+@pytest.mark.parametrize("num, patches, need", [(600, r"8\.44e\+362", r"4\.52e\+365 B"),
+                                                (10**6, r"4\.8e\+602061", r"2\.57e\+602064 B")])
+def test_refine_estimate_of_astronomic_depths_is_formatted(num, patches, need):
+    p = surfaces.practical().to_bezier_patches()
+    with pytest.raises(ValueError, match=rf"refine\({num}\) of 49 patches \({patches} patches\) would need about "
+                                         rf"{need} of memory"):
+        p.refine(num)
+
+
+def test_format_count_and_bytes_past_float_range():
+    assert V.format_count(123) == "123" and V.format_count(10**400) == "1e+400"
+    assert V.format_bytes(3 * 2**30) == "3 GiB" and V.format_bytes(7 * 10**500) == "7e+500 B"
+
+
+def test_render_window_size_is_estimated_before_vtk(tmp_path):
+    r = cli("render", "--surface", "torus", "--window-size", "100000x100000", "-o", str(tmp_path / "x.png"))
+    assert r.returncode == 2
+    assert "--window-size: a 100000 x 100000 picture (window_size) would need about 224 GiB" in r.stderr
+    with pytest.raises(ValueError, match=r"a 100000 x 100000 picture \(window_size\) " + TOO_MUCH):
+        lab.render.picture(surfaces.plane(), window_size=(100000, 100000))
+    with pytest.raises(TypeError, match=r"window_size must be \(width, height\) in pixels; got '640x480'"):
+        lab.render.picture(surfaces.plane(), window_size="640x480")
+
+
+# -- degenerate geometry: flagged and warned, never a ZeroDivisionError or a silent NaN
+
+
+def test_visualize_curvature_of_patches_that_are_one_point():
+    p = lab.BezierPatches(np.zeros((2, 4, 4, 3)))
+    with pytest.warns(DegeneratePointWarning, match="8 degenerate point"):
+        p.visualize_curvature(p.CURVATURE_GAUSSIAN, p.COLOR_MAP_LINEAR)
+    assert np.all(np.isnan(p.curvature)) and np.all(p.colors == 0.5)  # no curvature: the grey of non-finite values
+
+
+def test_normal_and_fundamental_forms_at_a_pole_are_the_limits():
+    s = surfaces.sphere(2.0)
+    with pytest.warns(DegeneratePointWarning, match=r"1 degenerate point\(s\) .* the normal there is its limit"):
+        N = s.normal(0.3, 0.0)  # the south pole; the outward normal there is -z
+    np.testing.assert_allclose(N, [0, 0, -1], atol=1e-9)
+    with pytest.warns(DegeneratePointWarning):
+        ff = s.fundamental_forms(0.3, 1.0)  # the north pole
+    np.testing.assert_allclose(ff.N, [0, 0, 1], atol=1e-9)
+    assert ff.E == 0 and np.isfinite([ff.e, ff.f, ff.g]).all()
+
+
+def test_colour_maps_refuse_inf_values_and_nan_options():
+    with pytest.raises(ValueError, match=r"values must be finite for a colour map; got inf"):
+        C.f2(np.array([0.0, np.inf, 1.0]))
+    with pytest.raises(ValueError, match="vmin must be a finite number; got nan"):
+        C.f2([0.0, 1.0], vmin=float("nan"))
+    with pytest.raises(ValueError, match="vmax must be >= 0; got nan"):
+        C.symmetric([0.0, 1.0], vmax=np.nan)
+    with pytest.raises(ValueError, match=r"lower must be in \[0, 100\]; got nan"):
+        C.percentile([0.0, 1.0], lower=np.nan)
+    rgb = C.colors_for(np.array([0.0, np.inf, 1.0]), "linear")  # the documented path: non-finite is grey
+    np.testing.assert_array_equal(rgb[1], [0.5, 0.5, 0.5])
+
+
+def test_huge_weights_are_refused():
+    P = np.random.default_rng(0).random((3, 3, 3))
+    w = np.ones((3, 3))
+    w[1, 1] = 1e308
+    with pytest.raises(ValueError, match=r"weights must lie within a ratio of 1e\+60 .* got weights from 1 to "
+                                         r"1e\+308: the rational derivatives would overflow"):
+        lab.BezierSurface(P, w)
+
+
+def test_parametric_surface_with_nan_derivatives_is_flagged():
+    u, v = sp.symbols("u v")
+    s = lab.ParametricSurface.from_sympy((u, v, sp.sqrt(u)), (u, v), ((-1, 1), (-1, 1)), name="root")
+    with pytest.warns(DegeneratePointWarning, match=r"root: the derivatives are not finite at 1 of 1 point\(s\), "
+                                                    r"e\.g\. \(u, v\) = \(-0\.5, 0\.5\)"):
+        c = s.curvature(-0.5, 0.5)
+    assert c.degenerate and np.isnan(c.K)
+
+
+def test_focal_surface_with_infinite_function_values_warns(torus):
+    with pytest.warns(FocalSheetWarning, match=r"(\d+) of \1 focal points are not finite"):
+        m = I.focal_surface(torus, function=lambda k1, k2: np.full_like(k1, np.inf), resolution=8)
+    assert not m.point_data["finite"].any()
+
+
+def test_overflow_and_underflow_are_named_not_called_degenerate():
+    P = np.random.default_rng(0).random((3, 3, 3))
+    with pytest.raises(ValueError, match=r"control net must have coordinates of at most 1e\+60, beyond which the "
+                                         r"fundamental forms overflow .* got coordinates up to 9\.97e\+199"):
+        lab.BezierSurface(P * 1e200)
+    with pytest.raises(ValueError, match=r"control net has an extent of only 9\.94e-201; below 1e-60 the "
+                                         r"fundamental forms underflow"):
+        lab.BezierSurface(P * 1e-200)
+
+
+# -- numpy's own messages replaced by ours
+
+
+def test_empty_arrays_in_f2_symmetric_and_percentile():
+    with pytest.raises(ValueError, match=r"f2 needs at least one value to find its range; got an empty array "
+                                         r"\(give vmin and vmax"):
+        C.f2([])
+    with pytest.raises(ValueError, match="symmetric needs at least one value"):
+        C.symmetric(np.array([]))
+    with pytest.raises(ValueError, match="percentile needs at least one value"):
+        C.percentile([])
+    assert C.f2([], vmin=0, vmax=1).shape == (0,)
+
+
+def test_strings_where_numbers_belong():
+    with pytest.raises(TypeError, match="R must be a real number; got str 'a'"):
+        surfaces.torus("a", 1)
+    with pytest.raises(TypeError, match="u must be an array of numbers; got str"):
+        surfaces.plane().curvature("a", 0.5)
+    with pytest.raises(TypeError, match="values must be an array of numbers; got str 'x'"):
+        C.f1("x")
+
+
+def test_a_degree_too_high_for_the_net():
+    P = np.random.default_rng(0).random((4, 4, 3))
+    k = np.array([0, 0, 0, 0, 0, 0, 1, 1, 1, 1.0])
+    with pytest.raises(ValueError, match=r"degree of the knot vector in u must be below the number of control points "
+                                         r"in that direction \(4, so at most 3\); got 5"):
+        lab.BSplineSurface(P, k, k, 5, 3)
+
+
+def test_grid_shape_junk():
+    with pytest.raises(TypeError, match="grid_shape must be \\(rows, columns\\), two integers; got 'ab'"):
+        lab.BezierPatches(np.zeros((4, 3, 3, 3)), grid_shape="ab")
+    with pytest.raises(TypeError, match="grid_shape entry must be an integer; got float 1.5"):
+        lab.BezierPatches(np.zeros((4, 3, 3, 3)), grid_shape=(1.5, 2))
+
+
+def test_none_parameters():
+    with pytest.raises(TypeError, match="R must be a real number; got NoneType None"):
+        surfaces.torus(None, 1)
+    with pytest.raises(TypeError, match="u must be an array of numbers; got NoneType None"):
+        surfaces.plane().curvature(None, 0.5)
+    with pytest.raises(TypeError, match="length must be a real number; got NoneType None"):
+        lab.geodesic(surfaces.plane(), (0.5, 0.5), 0.0, None)
+
+
+def test_complex_nets_are_refused():
+    with pytest.raises(TypeError, match=r"control net must be real numbers; got complex values \(the imaginary part "
+                                        r"would be dropped\)"):
+        lab.BezierSurface(np.zeros((3, 3, 3)) + 1j)
+
+
+def test_camera_inf(tmp_path):
+    r = cli("render", "--surface", "torus", "--camera", "inf,30", "-o", str(tmp_path / "x.png"))
+    assert r.returncode == 2 and "camera angles must be finite numbers of degrees; got 'inf,30'" in r.stderr
+    with pytest.raises(ValueError, match="azimuth must be a finite number; got inf"):
+        lab.render.picture(surfaces.plane(), camera=(np.inf, 30))
+
+
+def test_grading_a_json_list(tmp_path):
+    path = tmp_path / "05_visualize_curvature.ipynb"
+    path.write_text("[1, 2]")
+    from lab.teaching.grading import read_submission
+
+    with pytest.raises(ValueError, match=r"not a notebook: a notebook is a JSON object with 'cells' \(nbformat 4\); "
+                                         r"the file holds a JSON list"):
+        read_submission(path)
+
+
+def test_grading_an_empty_folder_and_bad_limits(tmp_path):
+    r = cli("grade", str(tmp_path))
+    assert r.returncode == 2 and f"no notebooks (.ipynb) in {tmp_path}" in r.stderr
+    for option, value in (("--timeout", "-5"), ("--memory", "0")):
+        r = cli("grade", str(tmp_path), option, value)
+        assert r.returncode == 2 and f"argument {option}: expected a positive number; got '{value}'" in r.stderr
