@@ -17,6 +17,7 @@ from tqdm import tqdm
 
 from .geometry import colormaps
 from .geometry.curvature import CurvatureMode
+from .i18n import N_, _
 from .model import surfaces
 
 OUTPUT_SUFFIXES = (".png", ".html", ".off", ".vtk", ".vtp", ".bez")
@@ -136,7 +137,7 @@ def _title(args):
         return args.title
     from .view.legend import MEASURES
 
-    name, symbol, _ = MEASURES[args.curvature]
+    name, symbol, _unit = MEASURES[args.curvature]
     label = Path(args.file).name if args.file else args.surface
     return f"{label}: {name} {symbol}, {args.color_map} map, depth {args.depth}"
 
@@ -166,60 +167,60 @@ def _window_size(text):
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="curvature-lab",
-        description="Curvature visualisation of free-form surfaces (Versuch 6: Krümmungsvisualisierung).",
+        description=_("Curvature visualisation of free-form surfaces (Versuch 6: Krümmungsvisualisierung)."),
     )
     sub = parser.add_subparsers(dest="command", required=True)
     r = sub.add_parser(
         "render",
-        help="colour a surface by curvature and write PNG, HTML, VTK, OFF or BEZ",
-        description="Colour a named surface by its exact curvature and write the result; "
-        "the output type follows the file suffix (" + ", ".join(OUTPUT_SUFFIXES) + ").",
+        help=_("colour a surface by curvature and write PNG, HTML, VTK, OFF or BEZ"),
+        description=_("Colour a named surface by its exact curvature and write the result; "
+                      "the output type follows the file suffix ({suffixes}).").format(suffixes=", ".join(OUTPUT_SUFFIXES)),
     )
-    r.add_argument("--surface", default="practical", choices=sorted(surfaces.REGISTRY), help="surface (default: practical)")
+    r.add_argument("--surface", default="practical", choices=sorted(surfaces.REGISTRY), help=_("surface (default: practical)"))
     r.add_argument(
         "--curvature",
         default="gaussian",
         choices=[m.value for m in CurvatureMode],
-        help="curvature measure: gaussian K, mean H, k1, k2, strain-energy (default: gaussian)",
+        help=_("curvature measure: gaussian K, mean H, k1, k2, strain-energy (default: gaussian)"),
     )
     r.add_argument(
-        "--color-map", default="linear", choices=list(colormaps.COLOR_MAPS), help="colour map (default: linear = h∘f2)"
+        "--color-map", default="linear", choices=list(colormaps.COLOR_MAPS), help=_("colour map (default: linear = h∘f2)")
     )
-    r.add_argument("--file", metavar="PART", help="a part from a file instead (STEP, IGES, BREP): each face on a "
-                   "(8·2^depth·resolution + 1)² grid in its trimmed region; see lab.read")
-    r.add_argument("--depth", type=int, default=1, help="subdivision depth: 4**depth patches per patch (default: 1)")
-    r.add_argument("--resolution", type=int, default=1, help="quads per patch edge in the mesh (default: 1)")
-    r.add_argument("--window-size", type=_window_size, default=(1024, 768), help="PNG size, e.g. 1024x768")
-    r.add_argument("--edges", action="store_true", help="draw the patch/mesh edges (at --resolution 1: the patch borders)")
-    r.add_argument("--vmin", type=float, help="lower end of the colour range (linear, dill)")
-    r.add_argument("--vmax", type=float, help="upper end of the colour range (linear, dill; symmetric: -vmax … vmax)")
+    r.add_argument("--file", metavar="PART", help=_("a part from a file instead (STEP, IGES, BREP): each face on a "
+                   "(8·2^depth·resolution + 1)² grid in its trimmed region; see lab.read"))
+    r.add_argument("--depth", type=int, default=1, help=_("subdivision depth: 4**depth patches per patch (default: 1)"))
+    r.add_argument("--resolution", type=int, default=1, help=_("quads per patch edge in the mesh (default: 1)"))
+    r.add_argument("--window-size", type=_window_size, default=(1024, 768), help=_("PNG size, e.g. 1024x768"))
+    r.add_argument("--edges", action="store_true", help=_("draw the patch/mesh edges (at --resolution 1: the patch borders)"))
+    r.add_argument("--vmin", type=float, help=_("lower end of the colour range (linear, dill)"))
+    r.add_argument("--vmax", type=float, help=_("upper end of the colour range (linear, dill; symmetric: -vmax … vmax)"))
     r.add_argument("--camera", type=_camera, metavar="AZIMUTH,ELEVATION",
-                   help="view direction in degrees: azimuth around z from +x, elevation above the xy-plane "
-                        "(default: the oblique view that sees most of the surface)")
+                   help=_("view direction in degrees: azimuth around z from +x, elevation above the xy-plane "
+                        "(default: the oblique view that sees most of the surface)"))
     r.add_argument("--legend", action=argparse.BooleanOptionalAction, default=True,
-                   help="draw the colour bar or classification legend in curvature units (default: yes)")
+                   help=_("draw the colour bar or classification legend in curvature units (default: yes)"))
     r.add_argument("--title", nargs="?", const=True, default=True, metavar="TEXT",
-                   help="title of the picture (default: surface, measure, map and depth)")
-    r.add_argument("--no-title", dest="title", action="store_false", help="no title")
-    r.add_argument("--quiet", action="store_true", help="no progress display")
-    r.add_argument("-o", "--output", required=True, help="output file (.png, .html, .off, .vtk, .vtp, .bez)")
+                   help=_("title of the picture (default: surface, measure, map and depth)"))
+    r.add_argument("--no-title", dest="title", action="store_false", help=_("no title"))
+    r.add_argument("--quiet", action="store_true", help=_("no progress display"))
+    r.add_argument("-o", "--output", required=True, help=_("output file (.png, .html, .off, .vtk, .vtp, .bez)"))
     # "--camera -60,35": let a negative azimuth pass as a value, not an option
     r._negative_number_matcher = re.compile(r"^-\d+(\.\d*)?(,-?\d+(\.\d*)?)?$|^-\.\d+$")
     r.set_defaults(func=_render)
     for verb, (_module, text) in VERBS.items():
-        sub.add_parser(verb, help=f"{text} (curvature-lab {verb} --help)", add_help=False)
+        sub.add_parser(verb, help=f"{_(text)} (curvature-lab {verb} --help)", add_help=False)
     return parser
 
 
 #: The course's commands, in the order a course uses them: verb -> (module of lab.teaching with main(), help).
 VERBS = {
-    "exercises": ("notebooks", "generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/"),
-    "release": ("release", "write the students' hand-out: exercises and the library without the answers"),
-    "collect": ("collect", "collect an assignment from the students' homes, with hand-in times and lateness"),
-    "grade": ("batch", "grade a notebook or a folder of submissions in a sandbox"),
-    "feedback": ("feedback", "put each student's report into the student's home"),
-    "gradebook": ("gradebook", "one row per student and a total, for Canvas, Moodle or CSV"),
-    "gradescope": ("gradescope", "build a Gradescope autograder zip for an assignment"),
+    "exercises": ("notebooks", N_("generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/")),
+    "release": ("release", N_("write the students' hand-out: exercises and the library without the answers")),
+    "collect": ("collect", N_("collect an assignment from the students' homes, with hand-in times and lateness")),
+    "grade": ("batch", N_("grade a notebook or a folder of submissions in a sandbox")),
+    "feedback": ("feedback", N_("put each student's report into the student's home")),
+    "gradebook": ("gradebook", N_("one row per student and a total, for Canvas, Moodle or CSV")),
+    "gradescope": ("gradescope", N_("build a Gradescope autograder zip for an assignment")),
 }
 
 

@@ -8,6 +8,7 @@ import csv
 import datetime
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -191,7 +192,7 @@ def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
     table = {r["student"]: r for r in rows_of(out)}
     assert float(table["ada"][ID]) == 10 and float(table["bea"][ID]) == 7.5  # 3 started days late: 30 %, capped 25 %
     assert table["bea"][f"{ID} late days"] == "3"
-    assert float(table["max"][ID]) == 10 and float(table["max"]["04_color_maps"]) == 7 + 3
+    assert float(table["(max)"][ID]) == 10 and float(table["(max)"]["04_color_maps"]) == 7 + 3
     assert float(table["ada"]["total"]) == 10 + float(table["ada"]["04_color_maps"])
     assert float(table["ada"]["04_color_maps"]) == 0 + 2  # the exercise untouched (0 autograded) + 2 written
     canvas = tmp_path / "canvas.csv"
@@ -215,12 +216,14 @@ def test_gradescope_autograder_runs_and_rounds_alike(course, tmp_path):
     with zipfile.ZipFile(zpath) as z:
         names = z.namelist()
         z.extractall(root / "source")
-    assert {"setup.sh", "run_autograder", f"source/assignment/en/{ID}.ipynb", f"source/assignment/de/{ID}.ipynb",
-            "source/curvature-lab/pyproject.toml", "source/curvature-lab/lab/teaching/grading.py"} <= set(names)
+    assert {"setup.sh", "run_autograder", f"assignment/en/{ID}.ipynb", f"assignment/de/{ID}.ipynb",
+            "curvature-lab/pyproject.toml", "curvature-lab/lab/teaching/grading.py"} <= set(names)
     for script in ("setup.sh", "run_autograder"):
         assert subprocess.run(["bash", "-n", str(root / "source" / script)], check=False).returncode == 0
-    # Gradescope's layout: the zip in /autograder/source, the upload in /autograder/submission
-    shutil.move(str(root / "source" / "source" / "assignment"), str(root / "source" / "assignment"))
+    # Gradescope's layout: the zip unpacked as it is into /autograder/source, the upload in /autograder/submission;
+    # what setup.sh installs is there, unmoved
+    installed = re.search(r"pip install -q (/autograder/\S+)\s*$", (root / "source" / "setup.sh").read_text()).group(1)
+    assert (root / Path(installed).relative_to("/autograder") / "pyproject.toml").is_file()
     (root / "submission").mkdir()
     shutil.copy(SOLUTION["de"], root / "submission" / "abgabe (1).ipynb")
     env = {**os.environ, "AUTOGRADER_ROOT": str(root), "LAB_PYTHON": sys.executable}
@@ -348,3 +351,70 @@ def test_grade_cli_rejects_bad_options(capsys):
         with pytest.raises(SystemExit):
             batch.main([str(SOLUTION["en"]), *args])
         assert message in capsys.readouterr().err
+
+
+# -- what an instructor reads on the way (no grading needed) ---------------------------------------------------
+
+def test_feedback_usage_names_the_homes(capsys):
+    with pytest.raises(SystemExit):
+        feedback.main(["reports/05"])
+    err = capsys.readouterr().err
+    assert "REPORTS [REPORTS ...] HOMES" in err and "required: HOMES" in err
+
+
+def test_run_record_writes_null_for_the_default_assignment_and_resumes_an_old_one(tmp_path):
+    seed = batch._run_record(tmp_path, 7, None, resume=False)
+    assert seed == 7 and json.loads((tmp_path / "run.json").read_text()) == {"seed": 7, "assignment": None}
+    (tmp_path / "run.json").write_text(json.dumps({"seed": 9, "assignment": "None"}))  # written before the fix
+    assert batch._run_record(tmp_path, None, None, resume=True) == 9
+    with pytest.raises(batch.GradingError, match="graded against None, not elsewhere"):
+        batch._run_record(tmp_path, None, "elsewhere", resume=True)
+
+
+def test_a_student_without_a_submission_is_named_and_a_missing_seed_is_no_none():
+    from lab.teaching.grading import GradeResult
+
+    res = GradeResult(notebook="", assignment=ID, student="hans", error="no submission (missing: no home)",
+                      tasks=[{"task": "visualize_curvature", "object": "MyBezierPatches", "points": 10, "score": 0.0,
+                             "passed": False, "report": ""}])
+    assert batch.result_line(res) == "hans: 0 / 10  (no submission (missing: no home))"
+    assert "seed –" in res.text() and "None" not in res.text()
+
+
+def test_gradebook_csv_keeps_a_student_called_max(tmp_path):
+    reports = tmp_path / "reports"
+    reports.mkdir()
+    with open(reports / "summary.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=batch.SUMMARY_COLUMNS)
+        w.writeheader()
+        w.writerow({"student": "max", "notebook": f"max/{ID}.ipynb", "score": 4, "max_score": 10, "assignment": ID})
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(reports), "-o", str(out)]) == 0
+    table = {r["student"]: r for r in rows_of(out)}
+    assert float(table["max"][ID]) == 4 and float(table[gradebook.MAX_ROW][ID]) == 10
+
+
+@pytest.mark.parametrize("verb", ["release", "collect", "grade", "feedback", "gradebook", "gradescope"])
+def test_course_commands_help_in_the_instructors_language(verb, capsys):
+    import importlib
+
+    from lab import cli, i18n
+
+    main = importlib.import_module(f"lab.teaching.{cli.VERBS[verb][0]}").main
+    texts = {}
+    for lang in ("en", "de"):
+        with i18n.using(lang), pytest.raises(SystemExit):
+            main(["--help"])
+        texts[lang] = capsys.readouterr().out
+    # the description and every option's help are translated (argparse's own "usage:", "options:" stay English)
+    assert texts["de"] != texts["en"]
+    assert " (default" not in texts["de"] and "Vorgabe" in texts["de"] + ("Vorgabe" if verb == "feedback" else "")
+    with i18n.using("de"), pytest.raises(SystemExit):
+        cli.main(["--help"])
+    assert "Aufgabenblatt" in capsys.readouterr().out
+
+
+def test_every_task_module_is_withheld_whole():
+    """A task module added later (e.g. tasks_smoothness.py) holds cases and answers too: withheld without a list."""
+    task_modules = {p.name for p in (ROOT / "lab" / "teaching").glob("tasks*.py")}
+    assert "tasks_smoothness.py" in task_modules and task_modules <= set(release.WHOLE_MODULES)

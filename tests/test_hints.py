@@ -24,7 +24,7 @@ HEADLINES = {
     "normal_over_norm_squared": ["you divided the cross product by |b_u × b_v|²"],
     "unnormalised_normal": ["you used the cross product without dividing by its length"],
     "hard_coded_factors_3_3": ["your degree factors are those of degree (3, 3), but this patch has degree (2, 3)"],
-    "hard_coded_degree_4_4": ["an IndexError also on a square patch (one 3×3 patch", "take m, n = patch.degree"],
+    "hard_coded_degree_4_4": ["an IndexError also on a square patch (one 3×3 patch", "take the degrees m and n from patch.degree"],
     "swapped_degrees_in_loops": ["m and n are swapped", "IndexError on a patch of degree (2, 3); the square cases pass"],
     "swapped_degree_factors": ["m and n are swapped"],
     "transposed_loops": ["your derivative nets are transposed", "IndexError on the non-square patches"],

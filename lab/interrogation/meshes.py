@@ -344,9 +344,7 @@ def focal_sheets(surface, *, tol=None, resolution=None, warn=True):
                     decimal(_("focal sheet of {name}: dropped {dropped} of {n} vertices where |{name}| < {tol} "
                               "(radius of curvature beyond {radius}) and the cells touching them").format(
                         name=name, dropped=dropped, n=len(X), tol=f"{tol:.3g}", radius=f"{1 / tol:.3g}")),
-                    FocalSheetWarning,
-                    stacklevel=2,
-                )
+                    FocalSheetWarning, stacklevel=2)
         sheet.field_data["dropped"] = np.array([dropped])
         sheet.field_data["tol"] = np.array([tol])
         sheets.append(sheet)

@@ -54,7 +54,8 @@ from .grading import (
 from .sandbox import DISK, MEMORY, bwrap_works
 from .untrusted import clean, csv_cell, plain_file
 
-__all__ = ["SUMMARY_COLUMNS", "GradingError", "find_submissions", "grade_folder", "main", "read_summary", "report_names"]
+__all__ = ["SUMMARY_COLUMNS", "GradingError", "find_submissions", "grade_folder", "main", "read_summary", "report_names",
+           "result_line"]
 
 SUMMARY_COLUMNS = ("student", "notebook", "score", "max_score", "passed", "assignment", "seed", "tasks", "error",
                    "submitted", "late", "late_seconds", "notes", "missing_protections")
@@ -144,13 +145,18 @@ def _run_record(out_dir, seed, assignment, resume):
         old = json.loads(record.read_text())
         if seed is not None and int(seed) != old["seed"]:
             raise GradingError(f"--resume: the reports in {out_dir} were graded with seed {old['seed']}, not {seed}")
-        if str(assignment) != old.get("assignment"):
+        if _assignment_key(assignment) != (None if old.get("assignment") in (None, "None") else old["assignment"]):
             raise GradingError(f"--resume: the reports in {out_dir} were graded against {old.get('assignment')}, "
                                f"not {assignment}")
         return old["seed"]
     seed = secrets.randbelow(2**32) if seed is None else int(seed)
-    write_atomic(record, json.dumps({"seed": seed, "assignment": str(assignment)}))
+    write_atomic(record, json.dumps({"seed": seed, "assignment": _assignment_key(assignment)}))
     return seed
+
+
+def _assignment_key(assignment):
+    """How run.json records ``--assignment``: its path as text, or null for the project's exercises."""
+    return None if assignment is None else str(assignment)
 
 
 def _resumed(path, stem, out_dir, seed):
@@ -287,6 +293,12 @@ def _write_reports(out_dir, stem, res, fmt, visibility):
                                                                   ensure_ascii=False))
 
 
+def result_line(res):
+    """The line ``grade`` prints per submission: the notebook (the student where there is none), the score, an error."""
+    return clean(f"{res.notebook or res.student}: {res.score:g} / {res.max_score:g}"
+                 + (f"  ({res.error})" if res.error else ""), 400)
+
+
 def _positive(kind):
     def parse(text):
         try:
@@ -303,34 +315,34 @@ def _positive(kind):
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="curvature-lab grade",
-        description="Grade curvature-lab notebooks (one, or a folder of submissions) in a sandbox. A folder is "
-                    "SUBS/<student>/<assignment>.ipynb (as `curvature-lab collect` writes it) or SUBS/<student>.ipynb.")
-    parser.add_argument("path", help="a notebook, or a folder of submissions")
-    parser.add_argument("--assignment", help="the instructor's notebook, or a folder of them (also its en/, de/; "
-                                             "default: exercises/)")
-    parser.add_argument("--out", help="folder for the reports and summary.csv (folder mode; default: <path>-reports; "
-                                      "a notebook with --format gradescope: where results.json goes)")
-    parser.add_argument("-j", "--jobs", type=int, default=None, help="submissions graded in parallel (default: all cores)")
-    parser.add_argument("--seed", type=int, default=None, help="seed of the cases (default: fresh, recorded in the report)")
+        description=_("Grade curvature-lab notebooks (one, or a folder of submissions) in a sandbox. A folder is "
+                    "SUBS/<student>/<assignment>.ipynb (as `curvature-lab collect` writes it) or SUBS/<student>.ipynb."))
+    parser.add_argument("path", help=_("a notebook, or a folder of submissions"))
+    parser.add_argument("--assignment", help=_("the instructor's notebook, or a folder of them (also its en/, de/; "
+                                             "default: exercises/)"))
+    parser.add_argument("--out", help=_("folder for the reports and summary.csv (folder mode; default: <path>-reports; "
+                                      "a notebook with --format gradescope: where results.json goes)"))
+    parser.add_argument("-j", "--jobs", type=int, default=None, help=_("submissions graded in parallel (default: all cores)"))
+    parser.add_argument("--seed", type=int, default=None, help=_("seed of the cases (default: fresh, recorded in the report)"))
     parser.add_argument("--resume", action="store_true",
-                        help="folder mode: keep the reports of an interrupted run (same seed, same notebooks), grade "
-                             "the rest")
-    parser.add_argument("--format", choices=("text", "json", "gradescope"), default="text", help="report format")
-    parser.add_argument("--json", action="store_true", help="the same as --format json")
+                        help=_("folder mode: keep the reports of an interrupted run (same seed, same notebooks), grade "
+                             "the rest"))
+    parser.add_argument("--format", choices=("text", "json", "gradescope"), default="text", help=_("report format"))
+    parser.add_argument("--json", action="store_true", help=_("the same as --format json"))
     parser.add_argument("--visibility", choices=VISIBILITY, default="visible",
-                        help="Gradescope: when students see the results (default: visible)")
-    parser.add_argument("--timeout", type=_positive(float), default=60, help="seconds per cell (default 60)")
+                        help=_("Gradescope: when students see the results (default: visible)"))
+    parser.add_argument("--timeout", type=_positive(float), default=60, help=_("seconds per cell (default 60)"))
     parser.add_argument("--check-timeout", type=_positive(float), default=10,
-                        help="seconds per call of the student's code (default 10)")
+                        help=_("seconds per call of the student's code (default 10)"))
     parser.add_argument("--total-timeout", type=_positive(float), default=600,
-                        help="seconds per submission (default 600)")
+                        help=_("seconds per submission (default 600)"))
     parser.add_argument("--memory", type=_positive(int), default=MEMORY >> 20,
-                        help="MiB of memory per submission, all its processes and files together (default 2048)")
+                        help=_("MiB of memory per submission, all its processes and files together (default 2048)"))
     parser.add_argument("--disk", type=_positive(int), default=DISK >> 20,
-                        help="MiB a submission may write (default 512)")
+                        help=_("MiB a submission may write (default 512)"))
     parser.add_argument("--no-sandbox", action="store_true",
-                        help="grade without bubblewrap (limits and a process group only: the submission can read "
-                             "the course's files); required to grade a folder where bubblewrap cannot run")
+                        help=_("grade without bubblewrap (limits and a process group only: the submission can read "
+                             "the course's files); required to grade a folder where bubblewrap cannot run"))
     return parser
 
 
@@ -361,8 +373,8 @@ def main(argv=None):
             print(json.dumps([r.to_dict() for r in results], indent=2, ensure_ascii=False))
         else:
             for r in results:
-                print(clean(f"{r.notebook}: {r.score:g} / {r.max_score:g}" + (f"  ({r.error})" if r.error else ""), 400))
-            print(f"reports and summary.csv in {out}")
+                print(result_line(r))
+            print(_("reports and summary.csv in {out}").format(out=out))
         return 0 if results and all(r.passed for r in results) else 1
     if path.suffix != ".ipynb":
         parser.error(f"expected a .ipynb notebook or a folder; got {path}")

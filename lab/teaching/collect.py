@@ -32,6 +32,7 @@ from pathlib import Path
 
 import nbformat
 
+from .. import i18n
 from ..i18n import _
 from . import written
 from .assignments import DEFAULT_FOLDER
@@ -201,15 +202,18 @@ def collect(homes, assignment_id, deadline, out_dir, *, roster=(), exercises=DEF
         lang = (exercise_nb.metadata.get("lab") or {}).get("lang", "en")
         written.collect_answers(out_dir, assignment_id, exercise_nb, answers, lang)
     missing = [r["student"] for r in rows if r["status"] != "collected"]
-    print(f"collected {len(plan)} of {len(rows)}: {sum(r['late'] is True for r in rows)} late; without a "
-          f"submission: {', '.join(clean(m, 60) for m in missing) or 'none'}", file=log)
+    print(_("collected {n} of {total}: {late} late; without a submission: {names}").format(
+        n=len(plan), total=len(rows), late=sum(r["late"] is True for r in rows),
+        names=", ".join(clean(m, 60) for m in missing) or _("none")), file=log)
     return rows
 
 
 def _exercise(exercises, assignment_id):
-    """The instructor's exercise notebook of the assignment (for its questions) and its cell ids, or (None, ())."""
+    """The instructor's exercise notebook of the assignment (for its questions) and its cell ids, or (None, ()):
+    the one in the instructor's language (``LAB_LANG``) first, so that the written-answer page is in it."""
     where = Path(exercises)
-    for folder in (where, where / "en", where / "de"):
+    first = i18n.language()
+    for folder in (where, where / first, *(where / lang for lang in i18n.LANGUAGES if lang != first)):
         path = folder / f"{assignment_id}.ipynb"
         if path.is_file():
             nb = nbformat.read(str(path), as_version=4)
@@ -223,14 +227,14 @@ def main(argv=None):
         description=_("Collect one assignment from the students' homes into a folder of submissions, with hand-in "
                       "times and lateness (SUBS/collected.csv) and the written answers (SUBS/written-ID.html, .csv). "
                       "Homes are only read."))
-    parser.add_argument("homes", help="folder of homes, one per student named by the user name (e.g. /home)")
-    parser.add_argument("--assignment", required=True, help="assignment id, e.g. 05_visualize_curvature")
-    parser.add_argument("--deadline", required=True, help="ISO 8601, e.g. 2026-12-15T23:59+01:00 (no offset: local time)")
-    parser.add_argument("--out", required=True, help="folder of submissions to write (SUBS)")
-    parser.add_argument("--students", help="roster: one user name per line, or a CSV with a column 'username'; "
-                                           "students without a home are listed as missing")
+    parser.add_argument("homes", help=_("folder of homes, one per student named by the user name (e.g. /home)"))
+    parser.add_argument("--assignment", required=True, help=_("assignment id, e.g. 05_visualize_curvature"))
+    parser.add_argument("--deadline", required=True, help=_("ISO 8601, e.g. 2026-12-15T23:59+01:00 (no offset: local time)"))
+    parser.add_argument("--out", required=True, help=_("folder of submissions to write (SUBS)"))
+    parser.add_argument("--students", help=_("roster: one user name per line, or a CSV with a column 'username'; "
+                                           "students without a home are listed as missing"))
     parser.add_argument("--exercises", default=str(DEFAULT_FOLDER),
-                        help="the instructor's exercises (for the written questions; default: exercises/)")
+                        help=_("the instructor's exercises (for the written questions; default: exercises/)"))
     args = parser.parse_args(argv)
     try:
         roster = _read_roster(args.students) if args.students else ()

@@ -163,7 +163,8 @@ def feedback(reports, homes, *, log=sys.stderr):
         seen += 1
         home = homes / result.student
         if not home.is_dir() or home.is_symlink():
-            print(f"curvature-lab feedback: no home for {clean(result.student, 80)}: skipped", file=log)
+            print("curvature-lab feedback: " + _("no home for {student}: skipped").format(student=clean(result.student, 80)),
+                  file=log)
             continue
         try:
             written.append(write_into_home(home, _safe_name(result.assignment or "feedback"), render(result)))
@@ -171,21 +172,20 @@ def feedback(reports, homes, *, log=sys.stderr):
             print(f"curvature-lab feedback: {exc}", file=log)
     if not seen:
         raise FeedbackError(f"no reports (<name>.json written by curvature-lab grade) in {', '.join(map(str, reports))}")
-    print(f"feedback for {len(written)} of {seen} reports", file=log)
+    print(_("feedback for {n} of {total} reports").format(n=len(written), total=seen), file=log)
     return written
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab feedback",
-        description="Put each student's graded report, as a page in the student's language with every case and hint, "
-                    "into the student's home: HOMES/<student>/feedback/<assignment>.html. Nothing else is touched.")
-    parser.add_argument("reports", nargs="+", help="report folders written by curvature-lab grade (then HOMES last)")
+        description=_("Put each student's graded report, as a page in the student's language with every case and hint, "
+                    "into the student's home: HOMES/<student>/feedback/<assignment>.html. Nothing else is touched."))
+    parser.add_argument("reports", nargs="+", metavar="REPORTS", help=_("report folders written by curvature-lab grade"))
+    parser.add_argument("homes", metavar="HOMES", help=_("folder of the students' homes, one per user name (e.g. /home)"))
     args = parser.parse_args(argv)
-    if len(args.reports) < 2:
-        parser.error("expected REPORTS... HOMES")
     try:
-        feedback(args.reports[:-1], args.reports[-1])
+        feedback(args.reports, args.homes)
     except (FeedbackError, OSError, ValueError) as exc:
         print(f"curvature-lab feedback: error: {exc}", file=sys.stderr)
         return 2

@@ -12,7 +12,9 @@ One row per student, a column per assignment and a total, from the ``summary.csv
 
 Formats:
 
-* ``csv``: ``student``, then per assignment its points and ``<id> late days``, then ``total`` and ``max``;
+* ``csv``: ``student``, then per assignment its points and ``<id> late days``, then ``total`` and ``max``; the
+  first row, ``(max)`` (no user name has parentheses, so a student called max keeps a row of their own), holds the
+  points possible;
 * ``canvas``: Canvas's gradebook import layout: ``Student, ID, SIS User ID, SIS Login ID, Section``, a
   column per assignment (named by its title: Canvas creates the assignment; rename a header to
   ``Title (123)`` to fill an existing one), a second row ``Points Possible``; students are matched by
@@ -28,14 +30,17 @@ import math
 import sys
 from pathlib import Path
 
+from ..i18n import _
 from .batch import read_summary
 from .grading import write_atomic
 from .untrusted import csv_cell
 from .written import read_written
 
-__all__ = ["FORMATS", "GradebookError", "LatePolicy", "gradebook", "main", "read_roster"]
+__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "gradebook", "main", "read_roster"]
 
 FORMATS = ("csv", "canvas", "moodle")
+#: The first row of the ``csv`` layout, the points possible: not a user name (a student may be called max).
+MAX_ROW = "(max)"
 
 
 class GradebookError(ValueError):
@@ -137,7 +142,7 @@ def _write(fmt, ids, maxima, rows, roster):
     max_total = round(sum(maxima.values()), 2)
     if fmt == "csv":
         w.writerow(["student"] + [c for aid in ids for c in (aid, f"{aid} late days")] + ["total", "max"])
-        w.writerow(["max"] + [c for aid in ids for c in (maxima[aid], "")] + [max_total, ""])
+        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "")] + [max_total, ""])
         for r in rows:
             w.writerow([csv_cell(r["student"])] + [c for aid in ids for c in (r[aid], r[f"{aid} late days"])]
                        + [r["total"], max_total])
@@ -161,16 +166,16 @@ def _write(fmt, ids, maxima, rows, roster):
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab gradebook",
-        description="One row per student, a column per assignment and a total, from graded report folders (their "
-                    "summary.csv), with written points and a late penalty; for Canvas, Moodle or as plain CSV.")
-    parser.add_argument("reports", nargs="+", help="report folders written by curvature-lab grade")
-    parser.add_argument("--format", choices=FORMATS, default="csv", help="layout of the file (default: csv)")
-    parser.add_argument("-o", "--output", required=True, help="the CSV file to write")
-    parser.add_argument("--written", action="append", default=[], help="a marked written-<id>.csv (repeatable)")
-    parser.add_argument("--late-penalty", type=float, default=0.0, help="percent of the points per started day late")
-    parser.add_argument("--late-cap", type=float, default=100.0, help="largest late penalty in percent (default 100)")
-    parser.add_argument("--grace", type=float, default=0.0, help="minutes after the deadline without penalty")
-    parser.add_argument("--roster", help="Canvas's gradebook export or a CSV with 'username' (names, ids, sections)")
+        description=_("One row per student, a column per assignment and a total, from graded report folders (their "
+                    "summary.csv), with written points and a late penalty; for Canvas, Moodle or as plain CSV."))
+    parser.add_argument("reports", nargs="+", help=_("report folders written by curvature-lab grade"))
+    parser.add_argument("--format", choices=FORMATS, default="csv", help=_("layout of the file (default: csv)"))
+    parser.add_argument("-o", "--output", required=True, help=_("the CSV file to write"))
+    parser.add_argument("--written", action="append", default=[], help=_("a marked written-<id>.csv (repeatable)"))
+    parser.add_argument("--late-penalty", type=float, default=0.0, help=_("percent of the points per started day late"))
+    parser.add_argument("--late-cap", type=float, default=100.0, help=_("largest late penalty in percent (default 100)"))
+    parser.add_argument("--grace", type=float, default=0.0, help=_("minutes after the deadline without penalty"))
+    parser.add_argument("--roster", help=_("Canvas's gradebook export or a CSV with 'username' (names, ids, sections)"))
     args = parser.parse_args(argv)
     try:
         roster = read_roster(args.roster) if args.roster else None
@@ -180,7 +185,8 @@ def main(argv=None):
     except (GradebookError, ValueError, OSError) as exc:
         print(f"curvature-lab gradebook: error: {exc}", file=sys.stderr)
         return 2
-    print(f"{len(rows)} students, {len(ids)} assignments -> {args.output}", file=sys.stderr)
+    print(_("{students} students, {assignments} assignments -> {file}").format(
+        students=len(rows), assignments=len(ids), file=args.output), file=sys.stderr)
     return 0
 
 

@@ -5,14 +5,20 @@ and runs ``run_autograder`` for every submission, which must write ``/autograder
 (https://gradescope-autograders.readthedocs.io/en/latest/specs/).  The zip holds:
 
 * ``setup.sh``: the Debian/Ubuntu packages for offscreen rendering and bubblewrap, a virtual environment
-  with the lab installed from ``source/curvature-lab`` (this repository's library, with its references:
-  they compute the answers, outside the student's sandbox);
+  with the lab installed from the zip's ``curvature-lab/`` (this repository's library, with its references:
+  they compute the answers, outside the student's sandbox), unpacked by Gradescope as
+  ``/autograder/source/curvature-lab``;
 * ``run_autograder``: finds the student's notebook in ``/autograder/submission`` (the assignment's file
   name, else the only notebook, else the one whose metadata names the assignment), copies it under the
   instructor's file name, and grades it with ``curvature-lab grade --format gradescope`` against the
-  instructor's copies in ``source/assignment/{en,de}``: fresh cases every run, one Gradescope test per task
+  instructor's copies in ``/autograder/source/assignment/{en,de}``: fresh cases every run, one Gradescope test per task
   (its group of cases) with the same rounding as the score, the chosen ``--visibility``;
-* ``source/assignment``: the assignment's exercise in English and German.
+* ``assignment/``: the assignment's exercise in English and German; ``curvature-lab/``: the library.
+
+Gradescope unpacks the zip into ``/autograder/source`` (and copies ``run_autograder`` to ``/autograder``), so
+every path the scripts use is under ``$ROOT/source``.  To try the autograder here: unpack the zip into
+``ROOT/source``, put a notebook into ``ROOT/submission`` and run ``AUTOGRADER_ROOT=ROOT LAB_PYTHON=.venv/bin/python
+bash ROOT/source/run_autograder``.
 
 Gradescope runs the autograder in a container that usually cannot create the namespaces bubblewrap needs;
 ``run_autograder`` then grades with ``--no-sandbox`` and says so in the results (the protections missing are
@@ -25,6 +31,7 @@ import sys
 import zipfile
 from pathlib import Path
 
+from ..i18n import _
 from .assignments import DEFAULT_FOLDER, AssignmentError, load
 from .grading import VISIBILITY
 
@@ -104,33 +111,33 @@ def build(assignment, output, *, visibility="visible", exercises=DEFAULT_FOLDER,
         for lang in ("en", "de"):
             copy = folder / lang / f"{found.id}.ipynb"
             if copy.is_file():
-                z.write(copy, f"source/assignment/{lang}/{found.id}.ipynb")
+                z.write(copy, f"assignment/{lang}/{found.id}.ipynb")
         for item in SOURCE:
             base = Path(source) / item
             files = [base] if base.is_file() else sorted(p for p in base.rglob("*") if p.is_file()
                                                          and "__pycache__" not in p.parts and p.suffix != ".pyc")
             for f in files:
-                z.write(f, f"source/curvature-lab/{f.relative_to(source)}")
+                z.write(f, f"curvature-lab/{f.relative_to(source)}")
     return output
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab gradescope",
-        description="Build a Gradescope autograder (setup.sh, run_autograder, the lab, the assignment) for one "
-                    "assignment; upload the zip as the assignment's autograder.")
-    parser.add_argument("assignment", help="assignment id (e.g. 05_visualize_curvature) or the instructor's notebook")
-    parser.add_argument("-o", "--output", default="autograder.zip", help="the zip to write (default: autograder.zip)")
+        description=_("Build a Gradescope autograder (setup.sh, run_autograder, the lab, the assignment) for one "
+                    "assignment; upload the zip as the assignment's autograder."))
+    parser.add_argument("assignment", help=_("assignment id (e.g. 05_visualize_curvature) or the instructor's notebook"))
+    parser.add_argument("-o", "--output", default="autograder.zip", help=_("the zip to write (default: autograder.zip)"))
     parser.add_argument("--visibility", choices=VISIBILITY, default="visible",
-                        help="when students see the results (default: visible; e.g. after_due_date)")
-    parser.add_argument("--exercises", default=str(DEFAULT_FOLDER), help="the instructor's exercises (default: exercises/)")
+                        help=_("when students see the results (default: visible; e.g. after_due_date)"))
+    parser.add_argument("--exercises", default=str(DEFAULT_FOLDER), help=_("the instructor's exercises (default: exercises/)"))
     args = parser.parse_args(argv)
     try:
         out = build(args.assignment, args.output, visibility=args.visibility, exercises=args.exercises)
     except (AssignmentError, OSError) as exc:
         print(f"curvature-lab gradescope: error: {exc}", file=sys.stderr)
         return 2
-    print(f"wrote {out}")
+    print(_("wrote {file}").format(file=out))
     return 0
 
 

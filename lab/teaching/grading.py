@@ -121,7 +121,8 @@ class GradeResult:
         head = _("{notebook}: {score} / {max} points").format(notebook=clean(self.notebook, 300),
                                                                score=f"{self.score:g}", max=f"{self.max_score:g}")
         if self.assignment:
-            head += "  " + _("(assignment {id}, seed {seed})").format(id=clean(self.assignment, 100), seed=self.seed)
+            head += "  " + _("(assignment {id}, seed {seed})").format(id=clean(self.assignment, 100),
+                                                                     seed="–" if self.seed is None else self.seed)
         lines = [head]
         if self.error:
             lines.append("  " + _("error: {message}").format(message=clean(self.error)))

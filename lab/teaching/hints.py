@@ -36,7 +36,7 @@ VARIANT_HINTS = {
     "the second along v (degree n); Δ^{1,0} takes differences along the first index, Δ^{0,1} along the second."),
     "hard_coded_index": N_("your indices do not fit the sizes of the nets (a fixed degree, or one last index for all "
     "nets?): the control net has (m + 1) × (n + 1) points, b_u m × (n + 1), b_uu (m − 1) × (n + 1), b_uv m × n; take "
-    "m, n = patch.degree and the last corner of every net with index -1."),
+    "the degrees m and n from patch.degree and the last corner of every net with index -1."),
     "orientation": N_("the normal is N = b_u × b_v / |b_u × b_v| (practical 2.2); you used the opposite orientation, "
     "so H, κ1 and κ2 have the wrong sign."),
     "no_half": N_("H = ½ (eG − 2fF + gE) / (EG − F²): the factor ½ is missing (practical eq. 4)."),
@@ -67,7 +67,7 @@ def _render(mutant, transposed, m, n, labels=None):
     elif mutant.family == "hardcoded":
         a, b = mutant.degrees
         parts.append(_("your degree factors are those of degree ({a}, {b}), but this patch has degree ({m}, {n}): "
-                       "take m, n = patch.degree, do not write the degree into the code (practical section 3).").format(
+                       "take the degrees m and n from patch.degree, do not write them into the code (practical section 3).").format(
                            a=a, b=b, m=m, n=n))
         keys.append("hardcoded")
     else:

@@ -37,6 +37,7 @@ from pathlib import Path
 
 import nbformat
 
+from ..i18n import _
 from . import notebooks
 from .sandbox import by_module_file, functions_named
 from .tasks import TASKS
@@ -47,8 +48,9 @@ __all__ = ["MARK", "WHOLE_MODULES", "ReleaseError", "main", "release", "solution
 ROOT = Path(__file__).resolve().parents[2]
 MARK = ".lab-release"
 #: Teaching modules withheld whole: they hold the cases, the exact answers and the hints.
-WHOLE_MODULES = ("tasks.py", "tasks_colors.py", "tasks_curvature.py", "tasks_interrogation.py", "tasks_trimming.py",
-                 "references.py", "hints.py", "mutants.py")
+#: Every ``tasks*.py``, so that a new task module is withheld without being listed here.
+WHOLE_MODULES = tuple(sorted(p.name for p in (ROOT / "lab" / "teaching").glob("tasks*.py"))) + (
+    "references.py", "hints.py", "mutants.py")
 #: Top-level files and folders of the hand-out, taken from the course repository.
 COPIED = ("pyproject.toml", "jupyter")
 #: Solution lines shorter than this (after removing spaces) are not searched: ``return K``, ``else:``.
@@ -218,7 +220,7 @@ def _titles():
         en = nbformat.read(str(path), as_version=4).metadata.get("lab", {})
         de_path = ROOT / "exercises" / "de" / path.name
         de = nbformat.read(str(de_path), as_version=4).metadata.get("lab", {}) if de_path.is_file() else {}
-        tasks = ", ".join(f"`{t['object']}` ({t['points']:g})" for t in en.get("tasks", [])) or "–"
+        tasks = ", ".join(f"`{t['task']}` ({t['points']:g})" for t in en.get("tasks", [])) or "–"
         rows.append(f"| `{path.stem}` | {en.get('title', path.stem)} | {de.get('title', '')} | {tasks} |")
     return "\n".join(rows)
 
@@ -304,22 +306,22 @@ def _commit(out):
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab release",
-        description="Write the students' hand-out into OUT: exercises/en and exercises/de, a student README, "
+        description=_("Write the students' hand-out into OUT: exercises/en and exercises/de, a student README, "
                     "`make lab`, and the library with the reference implementations of the graded tasks "
-                    "withheld (compiled only). No solutions, tests or hidden data.")
-    parser.add_argument("out", help="an empty folder, or an earlier release to replace")
+                    "withheld (compiled only). No solutions, tests or hidden data."))
+    parser.add_argument("out", help=_("an empty folder, or an earlier release to replace"))
     parser.add_argument("--self-study", action="store_true",
-                        help="keep the library's reference implementations readable (for learners on their own)")
+                        help=_("keep the library's reference implementations readable (for learners on their own)"))
     parser.add_argument("--python", action="append", dest="pythons",
-                        help="also compile the withheld code for this Python (repeatable; default: the running one)")
-    parser.add_argument("--git", action="store_true", help="make OUT a git repository and commit the hand-out")
+                        help=_("also compile the withheld code for this Python (repeatable; default: the running one)"))
+    parser.add_argument("--git", action="store_true", help=_("make OUT a git repository and commit the hand-out"))
     args = parser.parse_args(argv)
     try:
         out = release(args.out, self_study=args.self_study, pythons=args.pythons or [sys.executable], git=args.git)
     except (ReleaseError, notebooks.StudentChangesError, notebooks.SourceError, OSError) as exc:
         print(f"curvature-lab release: error: {exc}", file=sys.stderr)
         return 2
-    print(f"wrote the hand-out to {out}")
+    print(_("wrote the hand-out to {out}").format(out=out))
     return 0
 
 
