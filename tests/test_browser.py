@@ -331,9 +331,9 @@ def test_restart_and_rerun_brings_every_view_back(browser, lab_server, tmp_path)
 
 #: the other explorers, and the curvature explorer on a student's class (its status line is the longest)
 MORE_EXPLORERS = [
-    "import lab\nfrom lab import surfaces\n\nclass Mine(lab.BezierPatches):\n"
-    "    def visualize_curvature(self, curvature_mode, color_map):\n"
-    "        lab.BezierPatches.visualize_curvature(self, curvature_mode, color_map)",
+    ("import lab\nfrom lab import surfaces\n\nclass Mine(lab.BezierPatches):\n"
+     "    def visualize_curvature(self, curvature_mode, color_map):\n"
+     "        lab.BezierPatches.visualize_curvature(self, curvature_mode, color_map)"),
     "s = lab.CurvatureExplorer(surfaces.practical(), Mine, depth=1)\ns",
     "r = lab.ReflectionExplorer(surfaces.hood(), resolution=32)\nr",
     "f = lab.FocalExplorer(surfaces.torus(2.0, 1.0), resolution=24)\nf",

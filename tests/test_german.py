@@ -55,7 +55,7 @@ ENGLISH = {"the", "of", "and", "is", "are", "with", "from", "your", "you", "not"
            "gaussian", "surface", "implemented", "expected", "got", "passed", "failed", "case", "cases", "holes",
            "outer", "loop", "region", "triangles", "nodes", "angle", "vertices", "lines", "line", "warning",
            "removed", "distance", "axis", "length", "end", "start", "sections", "geodesics", "area", "areas",
-           "explorer", "picture", "open", "notebook", "interactive", "view", "control", "degree", "rational"}
+           "explorer", "picture", "notebook", "interactive", "view", "control", "degree", "rational"}
 #: words that are English and allowed: code identifiers and names a German text uses as they are
 #: ("Patch" and "Start" are German words too)
 ALLOWED = {"lab", "signed", "log", "signed-log", "off", "coff", "cbez333", "jupyterlab", "explorer", "patch", "start"}
