@@ -91,14 +91,7 @@ def _outputs(nb):
                 yield i, out["data"]["text/plain"]
 
 
-#: German notebooks known to print English still (strict xfail: the test says when they are fixed)
-KNOWN_ENGLISH = {"12_how_smooth": "the continuity table, Path(...) of lines of curvature and the "
-                                  "DegeneratePointWarning print English (found 2026-12-02, not yet translated)"}
-
-
-@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.xfail(reason=KNOWN_ENGLISH[p.stem], strict=True))
-                                  if p.stem in KNOWN_ENGLISH else p
-                                  for p in sorted((ROOT / "solutions" / "de").glob("*.ipynb"))], ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", sorted((ROOT / "solutions" / "de").glob("*.ipynb")), ids=lambda p: p.stem)
 def test_german_notebooks_print_german(path, tmp_path):
     """Run All on a German solution (no frontend: the explorers show pictures); its printed outputs are German."""
     from nbclient import NotebookClient

@@ -37,6 +37,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..i18n import _
 from . import validation as _v
 from .colormaps import ZERO_TOL
 
@@ -362,12 +363,10 @@ def fill_degenerate(curv, samples, *, rtol=1e-6):
     k1 = np.where(mask, H + root, curv.k1)
     k2 = np.where(mask, H - root, curv.k2)
     n_bad = int(np.count_nonzero(~converged))
-    msg = (
-        f"{int(np.count_nonzero(mask))} degenerate point(s) (b_u x b_v = 0, e.g. a collapsed patch edge): "
-        "curvature there is the limit from inside the domain; see the 'degenerate' mask"
-    )
+    msg = _("{n} degenerate point(s) (b_u x b_v = 0, e.g. a collapsed patch edge): curvature there is the limit "
+            "from inside the domain; see the 'degenerate' mask").format(n=int(np.count_nonzero(mask)))
     if n_bad:
-        msg += f"; at {n_bad} of them the curvature has no finite limit and is NaN"
+        msg += _("; at {n} of them the curvature has no finite limit and is NaN").format(n=n_bad)
     warnings.warn(msg, DegeneratePointWarning, stacklevel=3)
     return Curvature(K, H, k1, k2, mask.copy())
 
@@ -398,10 +397,10 @@ def normal_limits(N, degenerate, u, v, centre, derivatives_at):
     limit[np.any(bad, axis=-1)] = np.nan
     flat[index] = limit
     n_bad = int(np.count_nonzero(~np.all(np.isfinite(limit), axis=-1)))
-    msg = (f"{index.size} degenerate point(s) (b_u x b_v = 0, e.g. a pole): the normal there is its limit from "
-           "inside the domain")
+    msg = _("{n} degenerate point(s) (b_u x b_v = 0, e.g. a pole): the normal there is its limit from inside the "
+            "domain").format(n=index.size)
     if n_bad:
-        msg += f"; at {n_bad} of them it has no limit and is NaN"
+        msg += _("; at {n} of them it has no limit and is NaN").format(n=n_bad)
     warnings.warn(msg, DegeneratePointWarning, stacklevel=3)
     return flat.reshape(np.shape(N))
 

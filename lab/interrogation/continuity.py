@@ -29,12 +29,16 @@ from ..geometry import bezier
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives, from_homogeneous
 from ..model.patches import BezierPatches
+from ..i18n import N_, _, decimal
 from ..model.surface import BSplineSurface
 
 __all__ = ["LEVELS", "TOLERANCES", "Continuity", "Edge", "continuity", "measures"]
 
 #: What an edge can achieve, worst first.
 LEVELS = ("none", "G0", "G1", "G2")
+#: the edge kinds as the table names them (marked for translation)
+EDGE_KINDS = {"knot line": N_("knot line"), "seam": N_("seam"), "patch border": N_("patch border"),
+              "face edge": N_("face edge")}
 #: Default tolerances: g0 relative to the model's size, g1 in degrees, g2 relative (see the module docstring).
 TOLERANCES = {"g0": 1e-6, "g1": 0.05, "g2": 0.01}
 
@@ -111,23 +115,33 @@ class Continuity:
         return {level: sum(e.achieved == level for e in self.edges) for level in LEVELS[::-1]}
 
     def table(self, max_rows=20):
-        """A plain-text table: one row per edge (the ``max_rows`` worst when there are more), the tolerances."""
+        """A plain-text table: one row per edge (the ``max_rows`` worst when there are more), the tolerances.
+
+        In the current language (German with decimal commas); edge kinds and levels as in :attr:`edges`.
+        """
         tol = self.tolerances
         rows = sorted(self.edges, key=lambda e: (LEVELS.index(e.achieved), -_deciding(e, tol, self.size)))
-        header = f"{'edge':<26} {'G0 gap':>10} {'G1 angle [deg]':>15} {'G2 jump [1/L]':>14} {'achieved':>9}"
+        edge, g0, g1, g2, achieved = (_("edge"), _("G0 gap"), _("G1 angle [deg]"), _("G2 jump [1/L]"),
+                                      _("achieved"))
+        header = f"{edge:<26} {g0:>10} {g1:>15} {g2:>14} {achieved:>9}"
         lines = [header, "-" * len(header)]
         for e in rows[:max_rows]:
+            kind = _(EDGE_KINDS.get(e.kind, e.kind))
             if e.value is not None:
-                name = f"{e.kind} {e.direction} = {e.value:.6g}"
+                name = f"{kind} {e.direction} = {decimal(f'{e.value:.6g}')}"
             else:
-                name = f"{e.kind} {e.faces[0]}|{e.faces[1]}"
-            lines.append(f"{name:<26} {e.g0:10.3g} {e.g1:15.3g} {e.g2:14.3g} {e.achieved:>9}")
+                name = f"{kind} {e.faces[0]}|{e.faces[1]}"
+            numbers = decimal(f"{e.g0:10.3g} {e.g1:15.3g} {e.g2:14.3g}")
+            lines.append(f"{name:<26} {numbers} {e.achieved:>9}")
         if len(rows) > max_rows:
-            lines.append(f"… {len(rows) - max_rows} more edges")
+            lines.append(_("… {n} more edges").format(n=len(rows) - max_rows))
         counts = ", ".join(f"{k}: {n}" for k, n in self.counts().items())
-        lines.append(f"{len(self.edges)} edges ({counts}); overall {self.achieved}")
-        lines.append(f"tolerances: G0 gap <= {tol['g0'] * self.size:.3g} ({tol['g0']:g} x size {self.size:.4g}), "
-                     f"G1 angle <= {tol['g1']:g} deg, G2 jump <= {tol['g2']:g} x (max |kn| + 1/size)")
+        lines.append(_("{n} edges ({counts}); overall {level}").format(n=len(self.edges), counts=counts,
+                                                                       level=self.achieved))
+        lines.append(decimal(_("tolerances: G0 gap <= {g0} ({tol_g0} x size {size}), G1 angle <= {g1} deg, "
+                               "G2 jump <= {g2} x (max |kn| + 1/size)").format(
+            g0=f"{tol['g0'] * self.size:.3g}", tol_g0=f"{tol['g0']:g}", size=f"{self.size:.4g}", g1=f"{tol['g1']:g}",
+            g2=f"{tol['g2']:g}")))
         return "\n".join(lines)
 
     def __repr__(self):

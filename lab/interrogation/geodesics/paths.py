@@ -52,7 +52,7 @@ import numpy as np
 
 from ...geometry import validation as _v
 from ...geometry.curvature import DegeneratePointWarning, unit_normal
-from ...i18n import _
+from ...i18n import _, decimal, language
 from ...model.surface import Surface
 from .integrator import _integrate_fan, _solve_one
 from .problem import (
@@ -154,9 +154,13 @@ class Path:
         return uv.reshape(s.shape + (2,)), points.reshape(s.shape + (3,))
 
     def __repr__(self):
-        end = {"length": "full length", "boundary": "hit the boundary", "degenerate": "stopped at a degenerate point"}
-        return (f"Path({self.kind}, angle={self.angle:.6g}, length={self.length:.6g}, {end[self.end]}, "
-                f"{len(self.s)} samples)")
+        end = {"length": _("full length"), "boundary": _("hit the boundary"),
+               "degenerate": _("stopped at a degenerate point")}
+        kinds = {"geodesic": _("geodesic"), "normal-section": _("normal section"),
+                 "line of curvature (k1)": _("line of curvature (k1)"), "line of curvature (k2)": _("line of curvature (k2)")}
+        return "Path({})".format(decimal(_("{kind}, angle={angle}, length={length}, {end}, {n} samples").format(
+            kind=kinds.get(self.kind, self.kind), angle=f"{self.angle:.6g}", length=f"{self.length:.6g}",
+            end=end[self.end], n=len(self.s))))
 
 
 @dataclass(frozen=True, eq=False)
@@ -201,7 +205,7 @@ class Fan:
     def __repr__(self):
         kinds = {"geodesic": _("geodesics"), "normal-section": _("normal sections")}
         return "Fan({})".format(_("{n} {kind} from {origin}, length {length}, {hit} hit the boundary").format(
-            n=len(self), kind=kinds.get(self.kind, f"{self.kind}s"), origin=self.origin, length=f"{self.length:g}",
+            n=len(self), kind=kinds.get(self.kind, f"{self.kind}s"), origin=_pair(self.origin), length=decimal(f"{self.length:g}"),
             hit=int(self.hit_boundary.sum())))
 
 
@@ -212,6 +216,11 @@ class Fan:
 #: ends it, and the integrator's work grows with the length (a geodesic of length 1e7 on the torus never ended;
 #: 1000 took 44 s here, so 100 sizes, 870 on the default torus, stay within a minute).
 MAX_LENGTH_PER_SIZE = 100
+
+
+def _pair(uv):
+    """``(u, v)`` as the current language writes it: "(0.5, 0.25)", in German "(0,5; 0,25)"."""
+    return "({})".format(("; " if language() == "de" else ", ").join(decimal(f"{float(x):g}") for x in uv))
 
 
 def _check_length_cap(surface, L, kind):
