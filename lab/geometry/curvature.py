@@ -177,7 +177,7 @@ def fundamental_forms(d, N=None):
     normal ``N`` is given (e.g. its limit there, :func:`normal_limits`).
     """
     if N is None:
-        N, _ = unit_normal(d.bu, d.bv)
+        N, _bad = unit_normal(d.bu, d.bv)
     return FundamentalForms(
         _dot(d.bu, d.bu),
         _dot(d.bu, d.bv),

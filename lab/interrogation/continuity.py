@@ -28,8 +28,8 @@ import numpy as np
 from ..geometry import bezier
 from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives, from_homogeneous
-from ..model.patches import BezierPatches
 from ..i18n import N_, _, decimal
+from ..model.patches import BezierPatches
 from ..model.surface import BSplineSurface
 
 __all__ = ["LEVELS", "TOLERANCES", "Continuity", "Edge", "continuity", "measures"]
@@ -335,7 +335,7 @@ def _grid_edges(nets, w, seams, tol, size, samples, kind, knot_lines=None):
 def _knot_lines(knots, degree, intervals):
     """``(value, multiplicity)`` of the interior knot lines between consecutive spans, and the seam's (the end)."""
     out = []
-    for (_, hi) in intervals[:-1]:
+    for (_lo, hi) in intervals[:-1]:
         out.append((float(hi), int(np.count_nonzero(knots == hi))))
     end = intervals[-1][1]
     out.append((float(end), int(np.count_nonzero(knots == end))))  # used by a periodic direction's seam

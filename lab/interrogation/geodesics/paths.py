@@ -257,7 +257,7 @@ def _prepare(surface, uv, angles, length, kind, rtol, atol, n_samples):
     if kind == GEODESIC:
         y0, D = np.concatenate([start, duv], axis=1), None
     else:
-        N, _ = unit_normal(d.bu, d.bv)
+        N, _bad = unit_normal(d.bu, d.bv)
         y0, D = start, np.cross(N, n)  # D = N x n (section 3.1)
     cell0 = problem.locate(start, duv)
     return problem, (u0, v0), L, rtol, atol, n_samples, y0, D, cell0
