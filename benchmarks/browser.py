@@ -28,7 +28,15 @@ The server-side table (``benchmarks/widgets.py``: computation + scene update +
 offscreen render, without the browser) is printed beside it.  Uses Debian's
 chromium at /usr/bin/chromium through Playwright (never ``playwright install``).
 
+From a student's seat (``--seat``, issue 20): the course's own notebooks 05–08
+(solutions/en, the tasks done) each opened in a fresh kernel: Run All until
+every explorer of the notebook shows its picture, then every explorer's primary
+control changed (the next option of its menu, or the geodesic explorer's start
+dragged), from the change to the settled picture, median of ``--repeat``.
+Targets on a quiet 2-core machine: Run All of 05 ≤ 10 s, every update ≤ 1 s.
+
 Usage: python benchmarks/browser.py [--repeat 10] [--backends client,server,trame] [--no-server-side]
+       python benchmarks/browser.py --seat [--repeat 5] [--notebooks 05,06,07,08]
 """
 
 import argparse
@@ -185,6 +193,75 @@ def measure(browser, backend, repeat, workdir):
                   "after a restart (s)": back}
 
 
+SEAT_NOTEBOOKS = ("05", "06", "07", "08")
+SEAT_TARGETS = {"run all": 10.0, "update": 1.0}  # s, on a quiet 2-core machine
+
+
+def _next_option(explorer):
+    """The value of the option after the chosen one in the explorer's primary menu (wrapping round)."""
+    return explorer.locator(".lab-primary-control select").evaluate(
+        "sel => sel.options[(sel.selectedIndex + 1) % sel.options.length].value")
+
+
+def measure_seat(browser, workdir, numbers, repeat):
+    """The course's notebooks from a student's seat: Run All to the last picture, then each explorer's updates."""
+    rows = []
+    with jupyterlab(workdir) as (url, token):
+        for number in numbers:
+            source = next((ROOT / "solutions" / "en").glob(f"{number}_*.ipynb"))
+            shutil.copy(source, workdir / source.name)
+            context = browser.new_context(viewport={"width": 1400, "height": 900})
+            context.add_init_script(FRAME_COUNTER_JS)
+            page = context.new_page()
+            nb = Notebook(page, url, token, source.name, workdir / "shots")
+            start = time.time()
+            nb.run_all(timeout=600)
+            cells_done = time.time() - start
+            explorers = nb.explorers()
+            for k in range(explorers.count()):
+                nb.wait_for_picture(explorers.nth(k), timeout=300)
+            pictures = time.time() - start
+            updates = []
+            for k in range(explorers.count()):
+                ex = explorers.nth(k)
+                ex.scroll_into_view_if_needed()
+                frame = view_frame(ex)
+                is_menu = ex.locator(".lab-primary-control select").count() > 0
+                values = []
+                for r in range(repeat):
+                    wait_quiet(frame)
+                    if is_menu:
+                        t0 = choose(ex, _next_option(ex))
+                    else:
+                        t0 = _drag_slider(page, ex, ".lab-primary-control", (0.55, 0.7)[r % 2])
+                    lat = settle_time(frame, t0, quiet=1.5, timeout=60)
+                    values.append(float("nan") if lat is None else lat / 1000)
+                title = ex.locator("b").first.inner_text() if ex.locator("b").count() \
+                    else f"explorer {k}"
+                updates.append((title.strip()[:28], statistics.median(values), max(values)))
+            rows.append((source.stem, cells_done, pictures, updates))
+            context.close()
+    return rows
+
+
+def print_seat(rows, repeat, load_before, load_after):
+    head = f"{'notebook':24s}{'cells run':>11s}{'last picture':>14s}   explorer updates (median / worst of {repeat}, s)"
+    print(head)
+    print("-" * (len(head) + 10))
+    ok = True
+    for name, cells, pictures, updates in rows:
+        text = "; ".join(f"{t} {m:.2f} / {w:.2f}" for t, m, w in updates) or "–"
+        print(f"{name:24s}{cells:10.1f}s{pictures:13.1f}s   {text}")
+        ok &= all(m <= SEAT_TARGETS["update"] for _, m, _ in updates)
+        if name.startswith("05"):
+            ok &= pictures <= SEAT_TARGETS["run all"]
+    print(f"targets: 05 Run All to the last picture ≤ {SEAT_TARGETS['run all']:g} s, every update ≤ "
+          f"{SEAT_TARGETS['update']:g} s (quiet 2-core machine)")
+    print(f"load average before {load_before[0]:.2f} / after {load_after[0]:.2f} (1 min), "
+          f"{os.cpu_count()} CPUs; {time.strftime('%Y-%m-%d %H:%M')}")
+    return 0 if ok else 1
+
+
 def _fmt(label, values):
     if not values:
         return "–"
@@ -197,8 +274,22 @@ def main():
     parser.add_argument("--repeat", type=int, default=10)
     parser.add_argument("--backends", default="client,server,trame")
     parser.add_argument("--no-server-side", action="store_true", help="skip the server-side table")
+    parser.add_argument("--seat", action="store_true", help="the course's notebooks 05–08 from a student's seat")
+    parser.add_argument("--notebooks", default=",".join(SEAT_NOTEBOOKS), help="with --seat: which notebooks")
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
+
+    if args.seat:
+        load_before = os.getloadavg()
+        workdir = Path(tempfile.mkdtemp(prefix="lab-seat-bench-"))
+        try:
+            with sync_playwright() as p:
+                browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+                rows = measure_seat(browser, workdir, [n.strip() for n in args.notebooks.split(",")], args.repeat)
+                browser.close()
+        finally:
+            shutil.rmtree(workdir, ignore_errors=True)
+        return print_seat(rows, args.repeat, load_before, os.getloadavg())
 
     backends = [b.strip() for b in args.backends.split(",") if b.strip()]
     load_before = os.getloadavg()

@@ -77,6 +77,8 @@ def test_own_designs():
 def test_bad_input_messages():
     with pytest.raises(ValueError, match=r"h expects values in \[0, 1\]; got values in \[-0.5, 1\]"):
         cm.h([-0.5, 1.0])
+    with pytest.raises(ValueError, match=r"h expects values in \[0, 1\]; got 1.5"):
+        cm.h(1.5)
     with pytest.raises(ValueError, match="values contain NaN"):
         cm.f1([np.nan])
     with pytest.raises(ValueError, match="unknown colour map 'rainbow'; expected one of linear, cut"):
@@ -96,3 +98,18 @@ def test_colours_in_chunks_equal_colours_at_once(name, rng):
     np.testing.assert_array_equal(whole[5, 1, 1], [0.5, 0.5, 0.5])  # NaN: grey
     direct = cm.apply(name, x[np.isfinite(x)])
     np.testing.assert_allclose(whole[np.isfinite(x)], direct, atol=1e-15)  # and what the map gives on its own
+
+
+def test_one_number_gives_what_an_array_of_it_gives():
+    """The scalar paths of h and f2 (a student's loop calls them once per corner) equal the array paths bit for bit,
+    and refuse NaN and inf with the array path's messages."""
+    for x in np.linspace(-0.3, 1.3, 1601):
+        one, array = cm.f2(x, 0.0, 1.0), cm.f2(np.array([x]), 0.0, 1.0)[0]
+        assert one == array and isinstance(one, np.float64)
+        assert np.array_equal(cm.h(float(one)), cm.h(np.array([one]))[0])
+    assert np.array_equal(cm.h(np.int64(1)), [1.0, 0.0, 0.0]) and cm.f2(3.0, 1.0, 1.0) == 0.5
+    for bad in (float("nan"), np.float64("inf")):
+        with pytest.raises(ValueError, match="NaN|finite"):
+            cm.h(bad)
+        with pytest.raises(ValueError, match="NaN|finite"):
+            cm.f2(bad, 0.0, 1.0)

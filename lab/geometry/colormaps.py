@@ -18,6 +18,7 @@ colours of shape ``values.shape + (3,)``.
 """
 
 import enum
+import math
 
 import numpy as np
 
@@ -81,6 +82,18 @@ def _values(x, name="values"):
     return x
 
 
+def _scalar(x):
+    """``x`` as a float when it is one real number (the practical's per-corner calls), else None.
+
+    The scalar paths of :func:`h` and :func:`f2` give the same numbers as the array paths, only without numpy's
+    per-call overhead (a student's loop calls them 12 545 times for the practical's surface at depth 3).
+    """
+    if type(x) in (float, int) or isinstance(x, (np.floating, np.integer)):
+        x = float(x)
+        return x if math.isfinite(x) else None  # NaN and inf: the array path raises its messages
+    return None
+
+
 def _range_needs_values(x, what, given):
     """A map that finds its range from the values refuses an empty array unless the range is ``given``."""
     if not x.size:
@@ -100,6 +113,13 @@ def h(x):
     -------
     ndarray, shape ``x.shape + (3,)``
     """
+    s = _scalar(x)
+    if s is not None:
+        if s < -1e-12 or s > 1 + 1e-12:
+            raise ValueError(f"h expects values in [0, 1]; got {s:g}")
+        s = min(max(s, 0.0), 1.0)
+        g = 4.0 * s if s <= 0.25 else 1.0 if s <= 0.75 else 4.0 - 4.0 * s
+        return np.array([min(max(4.0 * s - 2.0, 0.0), 1.0), g, min(max(2.0 - 4.0 * s, 0.0), 1.0)])
     x = _values(x)
     if x.size and (x.min() < -1e-12 or x.max() > 1 + 1e-12):
         raise ValueError(f"h expects values in [0, 1]; got values in [{x.min():g}, {x.max():g}]")
@@ -133,7 +153,8 @@ def f2(x, vmin=None, vmax=None, *, atol=0.0, rtol=1e-9):
     together; the colour of zero curvature moves from surface to surface, so
     the sign cannot be read off.
     """
-    x = _values(x)
+    s = _scalar(x)
+    x = np.float64(s) if s is not None else _values(x)
     if vmin is None or vmax is None:
         _range_needs_values(x, "f2", "vmin and vmax")
     lo = np.min(x) if vmin is None else as_number(vmin, "vmin")
@@ -142,7 +163,9 @@ def f2(x, vmin=None, vmax=None, *, atol=0.0, rtol=1e-9):
     if hi < lo:
         raise ValueError(f"f2 needs vmin <= vmax; got vmin={lo:g}, vmax={hi:g}")
     if hi - lo <= max(atol, rtol * max(abs(lo), abs(hi))):
-        return np.full(x.shape, 0.5)
+        return np.full(np.shape(x), 0.5)
+    if s is not None:
+        return np.float64(min(max((s - lo) / (hi - lo), 0.0), 1.0))
     return np.clip((x - lo) / (hi - lo), 0.0, 1.0)
 
 
