@@ -58,6 +58,7 @@ from tests.browser_support import (
     FRAME_COUNTER_JS,
     Notebook,
     choose,
+    frames_after,
     jupyterlab,
     kernel_value,
     now_ms,
@@ -214,13 +215,27 @@ def measure_seat(browser, workdir, numbers, repeat):
             context.add_init_script(FRAME_COUNTER_JS)
             page = context.new_page()
             nb = Notebook(page, url, token, source.name, workdir / "shots")
-            start = time.time()
+            t_start = now_ms(page)
             nb.run_all(timeout=600)
-            cells_done = time.time() - start
+            cells_done = (now_ms(page) - t_start) / 1000
             explorers = nb.explorers()
+            firsts = []  # the browser time of each view's first picture (its frame counter), not a polled screenshot
             for k in range(explorers.count()):
                 nb.wait_for_picture(explorers.nth(k), timeout=300)
-            pictures = time.time() - start
+                times = frames_after(view_frame(explorers.nth(k)), t_start)
+                firsts.append(min(times) if times else now_ms(page))
+            pictures = (max(firsts) - t_start) / 1000
+            slowest = page.evaluate("""() => {
+                const cells = window.jupyterapp.shell.currentWidget.content.model.cells, out = [];
+                for (let i = 0; i < cells.length; i++) {
+                    const t = cells.get(i).getMetadata('execution');
+                    if (t && t['iopub.execute_input'] && t['shell.execute_reply'])
+                        out.push([i, (Date.parse(t['shell.execute_reply']) - Date.parse(t['iopub.execute_input'])) / 1000]);
+                }
+                return out.sort((a, b) => b[1] - a[1]).slice(0, 4);
+            }""")
+            print(f"  {source.stem}: slowest cells " + ", ".join(f"{i}: {d:.1f} s" for i, d in slowest),
+                  file=sys.stderr, flush=True)
             updates = []
             for k in range(explorers.count()):
                 ex = explorers.nth(k)

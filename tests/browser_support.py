@@ -69,7 +69,7 @@ def jupyterlab(root, *, overrides=True, log=None):
     # Test-only user settings: render every cell (no windowing), so explorers below the fold are in the page.
     user = Path(root) / ".user-settings" / "@jupyterlab" / "notebook-extension"
     user.mkdir(parents=True, exist_ok=True)
-    (user / "tracker.jupyterlab-settings").write_text('{"windowingMode": "none"}')
+    (user / "tracker.jupyterlab-settings").write_text('{"windowingMode": "none", "recordTiming": true}')
     args = [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--ip=127.0.0.1", f"--port={port}",
             f"--ServerApp.token={token}", f"--ServerApp.root_dir={root}", "--allow-root",
             f"--LabApp.user_settings_dir={Path(root) / '.user-settings'}", "--LabApp.expose_app_in_browser=True"]
