@@ -23,6 +23,25 @@ LINES = {"en": ("… Stopped here:", "… Not run:"), "de": ("… Hier angehalte
 NOT_IMPLEMENTED = {"en": "not implemented yet", "de": "noch nicht implementiert"}
 
 
+#: Numbers the English text states, checked against what the same notebook prints (issue 20, item 7):
+#: (words of the text, a pattern of the printed output, a test of the pattern's numbers)
+STATED = {
+    "05_visualize_curvature": [
+        ("$H \\approx +6.08", r"depth 1: K from \S+ to (\S+), H from \S+ to (\S+)",
+         lambda K, H: abs(float(H) - 6.08) < 0.005 and abs(float(K) - 36.68) < 0.005)],
+    "07_reflection_lines": [
+        ("from about 10 % to under 1 %", r"torus 96: colours differ on (\S+) %(?s:.*?)torus 192: colours differ on (\S+) %",
+         lambda coarse, fine: 7 <= float(coarse) <= 13 and float(fine) < 1)],
+    "08_geodesics_isodistance": [
+        ("From the middle of our sheet ten curves close", r"start \(0.5, 0.4\): (\d+) of 15 curves closed",
+         lambda n: int(n) == 10),
+        ("only the first two", r"start \(0.1, 0.5\): (\d+) of 15 curves closed \(s_L = ([^)]*)\)",
+         lambda n, which: int(n) == 2 and which == "0.3, 0.6")],
+    "09_dill_gallery": [
+        ("a crown with $K \\approx 0.01", r"crown\s+K = \+(\S+) 1/m²", lambda K: 0.005 <= float(K) < 0.015)],
+}
+
+
 @pytest.fixture(scope="module")
 def kernels():
     shared = {}
@@ -56,3 +75,11 @@ def test_run_all_reaches_the_end_with_no_task_written(kernels, path):
     stopped = [c for c in code if any(line.startswith(LINES[lang]) for line in text_of(c).splitlines())]
     for cell in stopped:  # one line, no traceback
         assert "Traceback" not in text_of(cell) and "Error" not in text_of(cell).split("…")[0], text_of(cell)
+    if lang == "en":
+        prose = "\n".join(c.source for c in nb.cells if c.cell_type == "markdown")
+        printed = "\n".join(text_of(c) for c in code)
+        for words, pattern, holds in STATED.get(path.stem, ()):
+            assert words in prose, f"the text no longer says {words!r}: update STATED"
+            found = re.search(pattern, printed)
+            assert found, f"{path.stem} does not print {pattern!r}:\n{printed[-2000:]}"
+            assert holds(*found.groups()), f"the text says {words!r}, the notebook prints {found.group(0)!r}"
