@@ -19,6 +19,7 @@ import nbformat
 import pytest
 
 from lab.teaching import batch, collect, feedback, gradebook, gradescope, release, sandbox, written
+from tests import students
 
 ROOT = Path(__file__).resolve().parent.parent
 ID = "05_visualize_curvature"
@@ -53,8 +54,9 @@ def _snapshot(root):
 
 @pytest.fixture(scope="module")
 def course(tmp_path_factory):
-    """Homes of five students: ada (English, right, on time), bea (German, right, 2.5 days late, the notebook
-    renamed), cy (English, not done), dan (a link to ada's notebook), eli (no notebook); then collect and grade."""
+    """Homes of six students: ada (English, right, on time), bea (German, right, 2.5 days late, the notebook
+    renamed), cy (English, not done), dan (a link to ada's notebook), eli (no notebook), gus (English, b_u and b_v
+    without their degree factors); then collect and grade."""
     root = tmp_path_factory.mktemp("course")
     homes = root / "home"
     on_time, late = DEADLINE - datetime.timedelta(hours=3), DEADLINE + datetime.timedelta(days=2, hours=12)
@@ -66,6 +68,12 @@ def course(tmp_path_factory):
     (homes / "dan").mkdir()
     (homes / "dan" / f"{ID}.ipynb").symlink_to(homes / "ada" / "curvature-lab" / "exercises" / "en" / f"{ID}.ipynb")
     (homes / "eli" / "notes").mkdir(parents=True)
+    # gus forgot m and n in b_u and b_v (K comes out 81 times too large): his report must name that mistake
+    mine = nbformat.read(SOLUTION["en"], as_version=4)
+    next(c for c in mine.cells if "class MyBezierPatches" in c.source).source = students.source("bu_bv_without_m_n")
+    (homes / "gus").mkdir()
+    nbformat.write(mine, homes / "gus" / f"{ID}.ipynb")
+    os.utime(homes / "gus" / f"{ID}.ipynb", (on_time.timestamp(),) * 2)
     # written answers of 04 for ada and bea
     ex04 = nbformat.read(ROOT / "exercises" / "en" / "04_color_maps.ipynb", as_version=4)
     q = written.questions_of(ex04)[0]
@@ -78,12 +86,24 @@ def course(tmp_path_factory):
     del nb, answer
     before = _snapshot(homes)
     subs = root / "subs"
-    rows = collect.collect(homes, ID, DEADLINE.isoformat(), subs, roster=["ada", "bea", "cy", "dan", "eli", "fay"])
+    rows = collect.collect(homes, ID, DEADLINE.isoformat(), subs, roster=["ada", "bea", "cy", "dan", "eli", "fay", "gus"])
     rows04 = collect.collect(homes, "04_color_maps", DEADLINE.isoformat(), root / "subs04")
     reports = root / "reports"
     results = batch.grade_folder(subs, reports, jobs=2, seed=777, timeout=120)
     return {"root": root, "homes": homes, "subs": subs, "reports": reports, "rows": rows, "rows04": rows04,
             "results": {r.student: r for r in results}, "before": before}
+
+
+def test_the_report_of_a_common_mistake_names_it(course):
+    """Graded through the folder (sandbox, child process), a wrong submission's report names its mistake once:
+    the headline is the first failing case's diagnosis (tests/test_hints.py tries every mutant through lab.check)."""
+    res = course["results"]["gus"]
+    text = (course["reports"] / f"gus__{ID}.txt").read_text()
+    assert res.score == 0 and res.max_score == 10, text  # every case needs K, H or κ from b_u and b_v
+    for words in ("b_u has the factor 1 = 1 instead of m = 3", "b_v has the factor 1 = 1 instead of n = 3",
+                  "81 times the right ones"):
+        assert words in text, text
+    assert text.count("81 times the right ones") == 1 and "with the same hint" in text, text  # grouped
 
 
 def test_collect_finds_each_notebook_and_records_lateness(course):
@@ -96,7 +116,7 @@ def test_collect_finds_each_notebook_and_records_lateness(course):
     copy = course["subs"] / "bea" / f"{ID}.ipynb"
     assert copy.read_bytes() == SOLUTION["de"].read_bytes()  # copied under the instructor's file name
     written_csv = rows_of(course["subs"] / "collected.csv")
-    assert {r["student"] for r in written_csv} == {"ada", "bea", "cy", "dan", "eli", "fay"}
+    assert {r["student"] for r in written_csv} == {"ada", "bea", "cy", "dan", "eli", "fay", "gus"}
 
 
 def test_collect_never_changes_a_home(course):
