@@ -24,7 +24,7 @@ import numpy as np
 from ..geometry import validation as _v
 from ..mesh.levels import level_lines
 
-__all__ = ["draft_angle", "draft_map", "min_radius", "parting_line", "radius_map", "below_radius"]
+__all__ = ["below_radius", "draft_angle", "draft_map", "min_radius", "parting_line", "radius_map"]
 
 #: colours of the maps (RGB in 0 … 1): draft < 0 (undercut) blue, > 0 red, the threshold map's flagged points
 NEGATIVE, POSITIVE, ZERO = (0.15, 0.3, 0.9), (0.9, 0.2, 0.15), (0.93, 0.93, 0.93)
