@@ -100,3 +100,34 @@ def test_border_combs_and_errors():
         combs.iso_comb(s, "u", 1e6)
     with pytest.raises(ValueError, match=r"uv must have shape \(k, 2\)"):
         combs.comb(s, np.zeros((3, 3)))
+
+
+def test_render_draft_min_radius_and_combs(tmp_path, capsys):
+    import pyvista as pv
+    from PIL import Image
+
+    from lab import cli
+
+    out = tmp_path / "draft.vtp"
+    assert cli.main(["render", "--surface", "sphere", "--depth", "0", "--draft", "0,0,2", "--quiet", "-o", str(out)]) == 0
+    mesh = pv.read(out)
+    X, delta = np.asarray(mesh.points), np.asarray(mesh.point_data["draft"])
+    latitude = np.degrees(np.arcsin(np.clip(X[:, 2] / np.linalg.norm(X, axis=1), -1, 1)))
+    good = np.abs(np.abs(latitude) - 90) > 1  # the poles' normals are limits
+    assert np.max(np.abs(delta - latitude)[good]) < 1e-6
+    out = tmp_path / "radius.vtp"
+    assert cli.main(["render", "--surface", "cylinder", "--depth", "0", "--min-radius", "1.5", "--quiet",
+                     "-o", str(out)]) == 0
+    assert np.asarray(pv.read(out).point_data["below"]).all()  # the cylinder's radius 1 < 1.5
+    png = tmp_path / "combs.png"
+    assert cli.main(["render", "--surface", "practical", "--depth", "1", "--draft", "1,0,0", "--combs", "1",
+                     "--window-size", "400x300", "--quiet", "-o", str(png)]) == 0
+    image = np.asarray(Image.open(png).convert("RGB")).astype(int)
+    assert (np.abs(image[..., 0] - image[..., 2]) > 60).sum() > 1000  # red and blue sides of the parting line
+    assert (image.sum(-1) < 60).sum() > 200  # black parting line and combs
+    for bad, message in ((["--draft", "0,0,0"], "pull direction must look like X,Y,Z"),
+                         (["--draft", "0,0,1", "--min-radius", "1"], "two colourings"),
+                         (["--min-radius", "-1"], "r must be")):
+        with pytest.raises(SystemExit):
+            cli.main(["render", "--surface", "sphere", "--quiet", *bad, "-o", str(tmp_path / "x.vtp")])
+        assert message in capsys.readouterr().err
