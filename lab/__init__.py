@@ -74,6 +74,8 @@ _NAMES = {
                                     "normal_section_fan", "polar_isodistance"),
     "lab.interrogation.umbilics": ("Umbilic", "umbilics"),
     "lab.interrogation.continuity": ("Continuity", "continuity"),
+    "lab.interrogation.maps": ("draft_angle", "draft_map", "min_radius", "parting_line", "radius_map"),
+    "lab.interrogation.combs": ("Comb", "border_combs", "comb", "comb_lines", "iso_comb"),
     "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),

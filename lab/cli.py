@@ -40,6 +40,8 @@ def _render(args, parser):
         except ValueError as exc:
             parser.error(f"--window-size: {exc}")
     options = _map_options(args, parser)
+    if args.draft is not None and args.min_radius is not None:
+        parser.error("--draft and --min-radius are two colourings: give one of them")
     start = time.perf_counter()
     steps = 3 + args.depth
     label = Path(args.file).name if args.file else args.surface
@@ -81,11 +83,15 @@ def _render(args, parser):
             bar.set_postfix_str(f"curvature on a {n} x {n} grid")
             mesh = _mesh.surface_mesh(surface, n, n, args.curvature, args.color_map, **options)
         bar.update(1)
+        mesh, lines, legend = _cad_maps(args, parser, surface, mesh)
         bar.set_postfix_str(f"writing {out.name}")
         suffix = out.suffix.lower()
-        if suffix == ".png":
+        if suffix == ".png" and legend is not None:
+            render.save(mesh, out, window_size=args.window_size, edges=args.edges, lines=lines,
+                        title=_title(args), camera=args.camera, legend=legend if args.legend else False)
+        elif suffix == ".png":
             render.save(mesh, out, args.curvature, args.color_map, window_size=args.window_size, edges=args.edges,
-                        title=_title(args), camera=args.camera, map_options=options, legend=args.legend)
+                        title=_title(args), camera=args.camera, map_options=options, legend=args.legend, lines=lines)
         elif suffix == ".html":
             render.export_html(mesh, out, show_edges=args.edges, camera=args.camera)
         elif suffix == ".off":
@@ -103,6 +109,52 @@ def _render(args, parser):
     if not args.quiet:
         print(f"wrote {out} ({mesh.n_points} points, {time.perf_counter() - start:.2f} s)", file=sys.stderr)
     return 0
+
+
+def _cad_maps(args, parser, surface, mesh):
+    """--draft, --min-radius and --combs: the mesh recoloured, the lines drawn over it, the legend (None: unchanged)."""
+    from .interrogation import combs as _combs
+    from .interrogation import maps as _maps
+    from .view.legend import Legend
+
+    lines, legend = [], None
+    try:
+        if args.draft is not None:
+            mesh = _maps.draft_map(mesh, args.draft)
+            lines.append(_maps.parting_line(mesh))
+            stops = ((0.0, _maps.NEGATIVE), (0.5, _maps.ZERO), (1.0, _maps.POSITIVE))
+            legend = Legend(title=_("draft angle δ  [°]"), stops=stops,
+                            ticks=((0.0, "−90°"), (0.25, "−45°"), (0.5, "0°"), (0.75, "45°"), (1.0, "90°")),
+                            clim=(-90.0, 90.0), note=_("black line: parting line (0°); below 0: undercut"))
+        elif args.min_radius is not None:
+            mesh = _maps.radius_map(mesh, args.min_radius)
+            r = f"{args.min_radius:g}"
+            legend = Legend(title=_("min. radius of curvature 1/max(|κ1|, |κ2|)"),
+                            classes=((_("below r = {r}").format(r=r), _maps.FLAGGED),
+                                     (_("at least r = {r}").format(r=r), _maps.CLEAR)))
+    except ValueError as exc:
+        parser.error(str(exc))
+    if args.combs is not None:
+        if not hasattr(surface, "derivatives"):
+            parser.error("--combs needs a surface (--surface), not a part from a file")
+        try:
+            found = _combs.border_combs(surface, density=args.comb_density, scale=args.comb_scale, count=args.combs)
+        except ValueError as exc:
+            parser.error(str(exc))
+        lines.append(_combs.comb_lines(found))
+    if not lines:
+        return mesh, None, legend
+    return mesh, lines[0] if len(lines) == 1 else lines[0].merge(lines[1:]), legend
+
+
+def _pull(text):
+    try:
+        p = [float(x) for x in text.split(",")]
+    except ValueError:
+        p = []
+    if len(p) != 3 or not all(math.isfinite(x) for x in p) or not any(p):
+        raise argparse.ArgumentTypeError(f"the pull direction must look like X,Y,Z (not all 0), e.g. 0,0,1; got {text!r}")
+    return p
 
 
 #: colour maps that take a range, and the keyword options --vmin / --vmax become
@@ -139,6 +191,12 @@ def _title(args):
 
     name, symbol, _unit = MEASURES[args.curvature]
     label = Path(args.file).name if args.file else args.surface
+    if getattr(args, "draft", None) is not None:
+        pull = ", ".join(f"{x:g}" for x in args.draft)
+        return _("{label}: draft angle, pull ({pull}), depth {depth}").format(label=label, pull=pull, depth=args.depth)
+    if getattr(args, "min_radius", None) is not None:
+        return _("{label}: radius of curvature below {r:g}, depth {depth}").format(
+            label=label, r=args.min_radius, depth=args.depth)
     return f"{label}: {name} {symbol}, {args.color_map} map, depth {args.depth}"
 
 
@@ -202,6 +260,16 @@ def build_parser():
     r.add_argument("--title", nargs="?", const=True, default=True, metavar="TEXT",
                    help=_("title of the picture (default: surface, measure, map and depth)"))
     r.add_argument("--no-title", dest="title", action="store_false", help=_("no title"))
+    r.add_argument("--draft", type=_pull, metavar="X,Y,Z",
+                   help=_("colour by the draft angle against this pull direction, with the parting line (0°) in black"))
+    r.add_argument("--min-radius", type=float, metavar="R",
+                   help=_("colour red where the smallest radius of curvature is below R"))
+    r.add_argument("--combs", type=int, metavar="N",
+                   help=_("curvature combs along the domain's borders and N iso-curves in each direction"))
+    r.add_argument("--comb-scale", type=float, default=0.05, metavar="S",
+                   help=_("length of a comb tooth per unit of normal curvature (default: 0.05)"))
+    r.add_argument("--comb-density", type=int, default=48, metavar="D",
+                   help=_("teeth per comb (default: 48)"))
     r.add_argument("--quiet", action="store_true", help=_("no progress display"))
     r.add_argument("-o", "--output", required=True, help=_("output file (.png, .html, .off, .vtk, .vtp, .bez)"))
     # "--camera -60,35": let a negative azimuth pass as a value, not an option

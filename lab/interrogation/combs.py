@@ -1,0 +1,177 @@
+r"""Curvature combs (Rhino's CurvatureGraph) along curves on a surface: iso-parametric curves, borders, trim curves.
+
+Along a curve :math:`t \mapsto (u(t), v(t))` in the parameter domain the
+normal curvature in the curve's direction :math:`(\dot u, \dot v)` is
+
+.. math::  \kappa_n = \frac{e\dot u^2 + 2f\dot u\dot v + g\dot v^2}{E\dot u^2 + 2F\dot u\dot v + G\dot v^2}
+
+(practical, eq. 2.5's normal and forms).  The comb's tooth at a point
+:math:`\mathbf b` is the segment from :math:`\mathbf b` to
+:math:`\mathbf b + s\,\kappa_n\mathbf N` (``scale`` :math:`s`): its length is
+:math:`s|\kappa_n|`, it stands on the side the normal points to where
+:math:`\kappa_n > 0`.  On a circle of radius R on a cylinder every tooth has
+length :math:`s/R`.  *Inflections* are where :math:`\kappa_n` changes sign
+along the curve; they are located between samples by bisection on the exact
+:math:`\kappa_n` (the curve is taken as linear in (u, v) between two samples,
+exact for iso-parametric curves).
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+
+from ..geometry import validation as _v
+from ..geometry.curvature import fundamental_forms
+
+__all__ = ["Comb", "border_combs", "comb", "comb_lines", "iso_comb"]
+
+
+class Comb(NamedTuple):
+    """A curvature comb: ``uv`` (k, 2), ``points`` and ``tips`` (k, 3), ``kn`` (k,), ``normals`` (k, 3),
+    ``degenerate`` (k,) mask (no normal there: no tooth, ``tips`` NaN), ``inflections`` (j, 2) parameters and
+    ``inflection_points`` (j, 3) where ``kn`` changes sign with the surface's normals there
+    (``inflection_normals``), and the ``scale``."""
+
+    uv: np.ndarray
+    points: np.ndarray
+    tips: np.ndarray
+    kn: np.ndarray
+    normals: np.ndarray
+    degenerate: np.ndarray
+    inflections: np.ndarray
+    inflection_points: np.ndarray
+    inflection_normals: np.ndarray
+    scale: float
+
+
+def _kn(surface, uv, duv):
+    d = surface.derivatives(uv[:, 0], uv[:, 1])
+    forms = fundamental_forms(d)
+    du, dv = duv[:, 0], duv[:, 1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        kn = (forms.e * du * du + 2 * forms.f * du * dv + forms.g * dv * dv) / (
+            forms.E * du * du + 2 * forms.F * du * dv + forms.G * dv * dv)
+    return np.asarray(d.b, dtype=float), np.asarray(forms.N, dtype=float), kn
+
+
+def comb(surface, uv, *, scale=1.0, tangent=None, tol=1e-12):
+    """The curvature comb of ``surface`` along the parameter polyline ``uv`` (k, 2).
+
+    Parameters
+    ----------
+    surface : lab.Surface
+    uv : (k, 2) array_like
+        Points of the curve in the parameter domain, in order (k ≥ 2).
+    scale : float
+        Tooth length per unit of curvature (length²).
+    tangent : (k, 2) array_like, optional
+        The curve's direction (u', v') at each point; default: central differences of ``uv``.
+    tol : float
+        Inflection search: bisection down to ``tol`` of the segment.
+    """
+    uv = np.asarray(uv, dtype=float)
+    if uv.ndim != 2 or uv.shape[1] != 2 or len(uv) < 2:
+        raise ValueError(f"uv must have shape (k, 2) with k >= 2; got {uv.shape}")
+    if not np.all(np.isfinite(uv)):
+        raise ValueError("uv must be finite parameter values; got NaN or inf")
+    scale = _v.as_number(scale, "scale")
+    duv = np.gradient(uv, axis=0) if tangent is None else np.asarray(tangent, dtype=float)
+    if duv.shape != uv.shape:
+        raise ValueError(f"tangent must have the shape of uv {uv.shape}; got {duv.shape}")
+    points, N, kn = _kn(surface, uv, duv)
+    degenerate = ~np.isfinite(kn) | ~np.all(np.isfinite(N), axis=1)
+    tips = points + scale * kn[:, None] * N
+    tips[degenerate] = np.nan
+    found = []
+    s = np.sign(np.where(degenerate, 0.0, kn))
+    for i in np.nonzero(s[:-1] * s[1:] < 0)[0]:
+        a, b, ka = 0.0, 1.0, kn[i]
+        d = 0.5 * (duv[i] + duv[i + 1])
+        while b - a > tol:
+            m = 0.5 * (a + b)
+            km = _kn(surface, (uv[i] + m * (uv[i + 1] - uv[i]))[None], d[None])[2][0]
+            if np.sign(km) == np.sign(ka):
+                a, ka = m, km
+            else:
+                b = m
+        found.append(uv[i] + 0.5 * (a + b) * (uv[i + 1] - uv[i]))
+    inflections = np.array(found, dtype=float).reshape(-1, 2)
+    if len(inflections):
+        ip, inormals, _k = _kn(surface, inflections, np.ones_like(inflections))
+    else:
+        ip, inormals = np.zeros((0, 3)), np.zeros((0, 3))
+    return Comb(uv, points, tips, kn, N, degenerate, inflections, ip, inormals, scale)
+
+
+def iso_comb(surface, direction, value, *, density=64, scale=1.0):
+    """The comb along the iso-parametric curve ``direction = value``: ``"u"`` holds u fixed (v runs), ``"v"`` holds v."""
+    if direction not in ("u", "v"):
+        raise ValueError(f"direction must be 'u' (u fixed, v runs) or 'v' (v fixed, u runs); got {direction!r}")
+    density = int(_v.as_number(density, "density", minimum=2))
+    (u0, u1), (v0, v1) = surface.domain
+    value = _v.as_number(value, "value")
+    lo, hi = (u0, u1) if direction == "u" else (v0, v1)
+    if not lo - 1e-12 <= value <= hi + 1e-12:
+        raise ValueError(f"value must lie in the domain's {direction} range [{lo:g}, {hi:g}]; got {value:g}")
+    t = np.linspace(*((v0, v1) if direction == "u" else (u0, u1)), density)
+    fixed = np.full_like(t, value)
+    uv = np.stack([fixed, t], 1) if direction == "u" else np.stack([t, fixed], 1)
+    tangent = np.tile([0.0, 1.0] if direction == "u" else [1.0, 0.0], (density, 1))
+    return comb(surface, uv, scale=scale, tangent=tangent)
+
+
+def border_combs(surface, *, density=64, scale=1.0, count=0):
+    """Combs along the four borders of the domain and ``count`` interior iso-curves in each direction."""
+    (u0, u1), (v0, v1) = surface.domain
+    count = int(_v.as_number(count, "count", minimum=0))
+    combs = []
+    for direction, (lo, hi) in (("u", (u0, u1)), ("v", (v0, v1))):
+        for value in np.linspace(lo, hi, count + 2):
+            combs.append(iso_comb(surface, direction, value, density=density, scale=scale))
+    return combs
+
+
+def comb_lines(combs):
+    """The teeth and the envelope (the polyline through the tips) of ``combs`` as one pyvista.PolyData of lines.
+
+    Cell data ``part``: 0 for teeth, 1 for envelopes, 2 for the inflection marks (a segment through the
+    inflection point along the normal, as long as the comb's longest tooth on either side).  Inflection points are in ``field_data["inflections"]``.
+    """
+    import pyvista as pv
+
+    if isinstance(combs, Comb):
+        combs = [combs]
+    points, cells, part = [], [], []
+    n = 0
+    for c in combs:
+        ok = np.nonzero(~c.degenerate)[0]
+        for i in ok:
+            points += [c.points[i], c.tips[i]]
+            cells += [2, n, n + 1]
+            part.append(0)
+            n += 2
+        # the envelope, broken at degenerate points
+        runs = np.split(ok, np.nonzero(np.diff(ok) > 1)[0] + 1) if len(ok) else []
+        for run in runs:
+            if len(run) < 2:
+                continue
+            points += list(c.tips[run])
+            cells += [len(run), *range(n, n + len(run))]
+            part.append(1)
+            n += len(run)
+    # inflections: a mark across the curve along the normal, as long as the comb's longest tooth on each side
+    for c in combs:
+        if not len(c.inflection_points):
+            continue
+        ok = ~c.degenerate
+        half = float(np.max(np.abs(c.scale * c.kn[ok]))) if ok.any() else 0.0
+        for p, nrm in zip(c.inflection_points, c.inflection_normals, strict=True):
+            points += [p - half * nrm, p + half * nrm]
+            cells += [2, n, n + 1]
+            part.append(2)
+            n += 2
+    mesh = pv.PolyData(np.array(points, dtype=float).reshape(-1, 3), lines=np.array(cells, dtype=np.int64))
+    mesh.cell_data["part"] = np.array(part, dtype=np.int64)
+    flex = [c.inflection_points for c in combs if len(c.inflection_points)]
+    mesh.field_data["inflections"] = np.concatenate(flex) if flex else np.zeros((0, 3))
+    return mesh
