@@ -233,6 +233,12 @@ def shape_operator(d):
     so its eigenvalues are :math:`\kappa_1, \kappa_2` and its eigenvectors the
     principal directions.  NaN (and ``degenerate`` True) where ``b_u x b_v = 0``.
     """
+    return _weingarten(d)[:6]
+
+
+def _weingarten(d):
+    """:func:`shape_operator`'s six results, then ``(bu, bv, buu, buv, bvv)`` with the coordinates first, ``Q``
+    (the coordinates of b_u x b_v), ``E`` and ``G``: what the principal directions reuse instead of recomputing."""
     # Dill's unnormalised form: Q = b_u x b_v, A, B, C = Q . (b_uu, b_uv, b_vv), e = A/|Q| ...;
     # EG - F^2 = |Q|^2 (Lagrange's identity) without the cancellation of EG - F^2.
     # Written out per coordinate on views with the coordinates first: the operations of np.cross
@@ -252,7 +258,7 @@ def shape_operator(d):
         S12 = (G * f - F * g) / W2
         S21 = (E * f - F * e) / W2
         S22 = (E * g - F * f) / W2
-    return S11, S12, S21, S22, K, degenerate
+    return S11, S12, S21, S22, K, degenerate, (bu, bv, buu, buv, bvv), Q, E, G
 
 
 def _dot3(a, b):

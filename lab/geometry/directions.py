@@ -33,7 +33,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .curvature import _plain_repr, classify, shape_operator, strain_energy
+from .curvature import _plain_repr, _weingarten, classify, strain_energy
 
 __all__ = ["UMBILIC_RTOL", "CurvatureDirections", "eigen", "from_derivatives"]
 
@@ -80,7 +80,12 @@ def eigen(d):
     coordinates of eigenvectors of κ1 and κ2 (not normalised); ``gap`` is κ1 − κ2 relative to the
     curvature scale of the umbilic test (see the module docstring); NaN where both are 0 (a plane).
     """
-    S11, S12, S21, S22, K, degenerate = shape_operator(d)
+    return _eigen(d)[:8]
+
+
+def _eigen(d):
+    """:func:`eigen`'s results, then the coordinates-first ``bu``, ``bv`` and ``Q = b_u x b_v`` (computed once)."""
+    S11, S12, S21, S22, K, degenerate, (bu, bv, buu, buv, bvv), Q, E, G = _weingarten(d)
     H = 0.5 * (S11 + S22)
     a = 0.5 * (S11 - S22)
     r = np.sqrt(np.maximum(a * a + S12 * S21, 0.0))
@@ -89,12 +94,10 @@ def eigen(d):
     w1 = (np.where(first, r + a, S12), np.where(first, S21, r - a))
     w2 = (np.where(first, S12, a - r), np.where(first, -(r + a), S21))
     k1, k2 = H + r, H - r
-    bu, bv, buu, buv, bvv = (np.moveaxis(np.asarray(x), -1, 0) for x in d[1:])
-    E, G = (bu * bu).sum(0), (bv * bv).sum(0)
     second = (_norm3(buu) + 2 * _norm3(buv) + _norm3(bvv)) / (E + G)
     with np.errstate(invalid="ignore", divide="ignore"):
         gap = (k1 - k2) / (np.abs(k1) + np.abs(k2) + second)
-    return K, H, k1, k2, degenerate, w1, w2, gap
+    return K, H, k1, k2, degenerate, w1, w2, gap, bu, bv, Q
 
 
 def from_derivatives(d, *, rtol=UMBILIC_RTOL):
@@ -112,8 +115,7 @@ def from_derivatives(d, *, rtol=UMBILIC_RTOL):
     CurvatureDirections
         ``K, H, k1, k2`` exactly as :func:`lab.curvature.from_derivatives` gives them.
     """
-    K, H, k1, k2, degenerate, w1, w2, gap = eigen(d)
-    bu, bv = (np.moveaxis(np.asarray(x), -1, 0) for x in d[1:3])
+    K, H, k1, k2, degenerate, w1, w2, gap, bu, bv, Q = _eigen(d)
     with np.errstate(invalid="ignore"):
         umbilic = ~degenerate & ~(gap > rtol)  # 0/0 on a plane: umbilic too
     vectors = []
@@ -126,7 +128,6 @@ def from_derivatives(d, *, rtol=UMBILIC_RTOL):
         x1, x2 = vectors
         s1 = np.where((x1 * bu).sum(0) < 0, -1.0, 1.0)
         x1 = x1 * s1
-        Q = (bu[1] * bv[2] - bu[2] * bv[1], bu[2] * bv[0] - bu[0] * bv[2], bu[0] * bv[1] - bu[1] * bv[0])
         triple = (Q[0] * (x1[1] * x2[2] - x1[2] * x2[1]) + Q[1] * (x1[2] * x2[0] - x1[0] * x2[2])
                   + Q[2] * (x1[0] * x2[1] - x1[1] * x2[0]))
         x2 = x2 * np.where(triple < 0, -1.0, 1.0)
