@@ -339,3 +339,44 @@ def test_reflection_explorer_kinds():
     r.elevation.value = 90.0
     r.kind.value = "lines"
     assert "horizontal part" in r.status.value
+
+
+def test_edge_overlay_colours_each_edge_by_what_it_achieves(tmp_path):
+    """The hood's borders: the crease over the double knot v = 3 in G1's colour, the others G2's; the checkbox
+    shows and hides it; an offscreen picture against a stored one (tolerance as test_mesh's)."""
+    import os
+    from pathlib import Path
+
+    import imageio.v3 as iio
+
+    from lab.view.explorers.edges import EDGE_COLORS, edge_lines
+
+    ex = CurvatureExplorer(surfaces.hood(), live=False, depth=2)
+    assert ex.edges.actor is None  # nothing computed before the checkbox is ticked
+    ex.show_edges.value = True
+    ex.toggle_overlays()
+    rep = ex.edges.report
+    assert rep.counts() == {"G2": 35, "G1": 5, "G0": 0, "none": 0}
+    assert "G1: 5" in ex.edge_legend.value and ex.edges.actor.GetVisibility()
+    lines = edge_lines(rep)
+    crease = [e for e in rep.edges if e.achieved == "G1"]
+    rgb = np.asarray(lines.cell_data["RGB"])
+    g1 = np.array([int(EDGE_COLORS["G1"][k:k + 2], 16) for k in (1, 3, 5)])
+    assert np.count_nonzero(np.all(rgb == g1, axis=1)) == sum(len(e.points) - 1 for e in crease)
+    image = ex.plotter.screenshot(str(tmp_path / "edges.png"), window_size=(480, 320))[..., :3]
+    reference = Path(__file__).parent / "data" / "explorer_edges_hood.png"
+    if os.environ.get("LAB_UPDATE_REFERENCES"):
+        iio.imwrite(reference, image)
+    stored = iio.imread(reference)[..., :3].astype(float)
+    diff = np.abs(image.astype(float) - stored)
+    assert diff.mean() < 3.0 and np.mean(np.any(diff > 40, axis=-1)) < 0.02, f"differs from {reference}"
+    assert np.count_nonzero(np.all(np.abs(image.astype(int) - g1) < 30, axis=-1)) > 200  # the crease is drawn
+    ex.show_edges.value = False
+    ex.toggle_overlays()
+    assert not ex.edges.actor.GetVisibility() and ex.edge_legend.value == ""
+    refl = ReflectionExplorer(surfaces.hood(), live=False)
+    refl.show_edges.value = True
+    refl.toggle_edges()
+    assert refl.edges.report.counts()["G1"] == 1 and "G1: 1" in refl.edge_legend.value  # the knot line v = 3
+    ex.close()
+    refl.close()

@@ -14,6 +14,7 @@ from ...model.patches import BezierPatches
 from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, checkpoint, style_for
+from .edges import EdgeOverlay
 
 __all__ = ["CurvatureExplorer"]
 
@@ -128,6 +129,10 @@ class CurvatureExplorer(Explorer):
                                      layout=W.Layout(width="auto")))
         self.show_borders = c(W.Checkbox(value=False, description=_("patch borders"), indent=False,
                                          layout=W.Layout(width="auto")))
+        self.show_edges = c(W.Checkbox(value=False, description=_("edges by continuity"), indent=False,
+                                       layout=W.Layout(width="auto")))
+        self.edge_legend = c(W.HTML())
+        self.edges = EdgeOverlay(self._base if self._base is not None else surface)
         self.fit_button = c(W.Button(description=_("fit view"), tooltip=_("the oblique view of the whole surface"),
                                      layout=W.Layout(width="auto")))
         self.info = c(W.HTML())
@@ -144,14 +149,15 @@ class CurvatureExplorer(Explorer):
         self._observe(self.depth, self.set_depth)
         self._observe(self.show_net, self.toggle_overlays)
         self._observe(self.show_borders, self.toggle_overlays)
+        self._observe(self.show_edges, self.toggle_overlays)
         self.fit_button.on_click(lambda _button: self._on_main(self._request, self.fit_camera))
 
     def _controls(self):
         return [self.measure, self.color_map, self.range_mode, self.range_box, self.depth,
-                W.HBox([self.show_net, self.show_borders, self.fit_button],
+                W.HBox([self.show_net, self.show_borders, self.show_edges, self.fit_button],
                        layout=W.Layout(width="auto", justify_content="space-between", align_items="center",
                                        flex_flow="row wrap")),
-                self.info]
+                self.edge_legend, self.info]
 
     # -- geometry -------------------------------------------------------------
 
@@ -254,6 +260,7 @@ class CurvatureExplorer(Explorer):
             self._add_borders()
         if self.borders_actor is not None:
             self.borders_actor.SetVisibility(self.show_borders.value)
+        self.edge_legend.value = self.edges.show(self.plotter, self.show_edges.value)
         self.refresh()
 
     # -- colours ----------------------------------------------------------------

@@ -17,6 +17,7 @@ from ...interrogation.reflection import VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
+from .edges import EdgeOverlay
 
 __all__ = ["FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"]
 
@@ -117,12 +118,23 @@ class ReflectionExplorer(Explorer):
         # light-line spacing as a multiple of the default, which spreads the lines over three diagonals
         self.spacing = c(_slider(W.FloatSlider, N_("line spacing ×"), value=1.0, min=0.1, max=3.0, step=0.05,
                                  readout_format=".2f"))
+        self.show_edges = c(W.Checkbox(value=False, description=_("edges by continuity"), indent=False,
+                                       layout=W.Layout(width="auto")))
+        self.edge_legend = c(W.HTML())
+        self.edges = EdgeOverlay(surface)
         self._build_scene()
         for w in (self.kind, self.count, self.azimuth, self.elevation, self.orientation, self.spacing):
             self._observe(w, self.update_lines)
+        self._observe(self.show_edges, self.toggle_edges)
 
     def _controls(self):
-        return [self.kind, self.count, self.orientation, self.spacing, self.azimuth, self.elevation]
+        return [self.kind, self.count, self.orientation, self.spacing, self.azimuth, self.elevation,
+                self.show_edges, self.edge_legend]
+
+    def toggle_edges(self):
+        """Show or hide the edges coloured by what they achieve (lab.continuity), with their legend."""
+        self.edge_legend.value = self.edges.show(self.plotter, self.show_edges.value)
+        self.refresh()
 
     def _direction(self):
         a = np.radians(self.azimuth.value)
