@@ -2,7 +2,11 @@
 
 References: closed forms (two circular arcs of radii r1, r2 joined tangentially and extruded: g1 = 0,
 g2 = |1/r1 - 1/r2|), one-sided limits of the public evaluator approached from both sides, and OpenCASCADE's
-LocalAnalysis_SurfaceContinuity on the two Bézier pieces (skipped without cadquery-ocp-novtk)."""
+LocalAnalysis_SurfaceContinuity on the two Bézier pieces and on the shared edges of OpenCASCADE's sample parts
+(one read per file; skipped without cadquery-ocp-novtk or Debian's occt-misc)."""
+
+import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -152,3 +156,110 @@ def test_against_opencascade_local_analysis():
                 # OpenCASCADE's gap is half the largest normal-curvature difference (|dη| + amplitude)/2; with
                 # the principal directions the same on both sides it is |1/r1 - 1/r2| / 2
                 assert 2 * la.G2CurvatureGap() == pytest.approx(edge.jump[k], rel=1e-12)
+
+
+# -- a model's face edges, against OpenCASCADE at every sample of every shared edge ---------------------------
+
+DATA = Path(os.environ.get("LAB_OCC_DATA", "/usr/share/opencascade/data"))
+MODEL_FILES = ("occ/wing.brep", "occ/shell1.brep", "step/linkrods.step")
+
+
+@pytest.fixture(scope="module")
+def model_reports():
+    """Each sample file read once (lab.read) and its continuity report."""
+    pytest.importorskip("OCP")
+    if not (DATA / "occ" / "wing.brep").exists():
+        pytest.skip(f"OpenCASCADE's sample parts (Debian occt-misc) are not in {DATA}")
+    out = {}
+    for name in MODEL_FILES:
+        model = lab.read(DATA / name)
+        out[name] = (model, lab.continuity(model))
+    return out
+
+
+def _occ_reference(model, edge):
+    """At the edge's samples: OpenCASCADE's C0Value and G1Angle (LocalAnalysis_SurfaceContinuity on the two faces'
+    surfaces at the edge's (u, v)), the angle between the faces' oriented normals and the jump of the normal
+    curvature across the edge by Euler's formula from GeomLProp_SLProps's principal curvatures and directions."""
+    from OCP.GeomAbs import GeomAbs_Shape
+    from OCP.GeomLProp import GeomLProp_SLProps
+    from OCP.gp import gp_Dir
+    from OCP.LocalAnalysis import LocalAnalysis_SurfaceContinuity
+
+    from tests.occ_support import occt_surface
+
+    faces = [model.face(i) for i in edge.faces]
+    geoms = [occt_surface(f.surface) for f in faces]
+    signs = [-1.0 if f.reversed else 1.0 for f in faces]
+    rows = []
+    for k in range(len(edge.t)):
+        (ua, va), (ub, vb) = edge.uv[0][k], edge.uv[1][k]
+        la = LocalAnalysis_SurfaceContinuity(geoms[0], float(ua), float(va), geoms[1], float(ub), float(vb),
+                                             GeomAbs_Shape.GeomAbs_G2)
+        if not la.IsDone():  # a sample where a side has no normal or curvature (a collapsed border)
+            rows.append((np.nan,) * 5)
+            continue
+        t = edge.tangents[k] / np.linalg.norm(edge.tangents[k])
+        normals, kn = [], []
+        for g, s, (u, v) in zip(geoms, signs, ((ua, va), (ub, vb))):
+            p = GeomLProp_SLProps(g, float(u), float(v), 2, 1e-9)
+            assert p.IsCurvatureDefined()  # it computes the curvatures: asked first, later answers agree
+            n = p.Normal()
+            N = s * np.array([n.X(), n.Y(), n.Z()])
+            c = np.cross(N, t)
+            if p.IsUmbilic():
+                kn.append(s * p.MaxCurvature())
+            else:
+                dmax, dmin = gp_Dir(), gp_Dir()
+                p.CurvatureDirections(dmax, dmin)
+                dmax, dmin = (np.array([d.X(), d.Y(), d.Z()]) for d in (dmax, dmin))
+                kn.append(s * (p.MaxCurvature() * (c @ dmax) ** 2 + p.MinCurvature() * (c @ dmin) ** 2))
+            normals.append(N)
+        angle = np.degrees(np.arctan2(np.linalg.norm(np.cross(*normals)), normals[0] @ normals[1]))
+        rows.append((la.C0Value(), np.degrees(la.G1Angle()), angle, abs(kn[0] - kn[1]), max(map(abs, kn))))
+    return np.array(rows).T
+
+
+def test_model_edges_against_opencascade(model_reports):
+    """Gap and folded angle equal LocalAnalysis_SurfaceContinuity's, the oriented angle and the curvature jump
+    GeomLProp_SLProps's, at every sample of every shared edge of shell1.brep and linkrods.step."""
+    checked, skipped, worst = 0, 0, {"occ/shell1.brep": 0.0, "step/linkrods.step": 0.0}
+    for name in ("occ/shell1.brep", "step/linkrods.step"):
+        model, rep = model_reports[name]
+        assert len(rep.edges) == len(model.edges)
+        L = rep.size
+        for edge, ours in zip(model.edges, rep.edges):
+            assert ours.kind == "face edge" and ours.faces == edge.faces
+            c0, g1, angle, jump, kn = _occ_reference(model, edge)
+            done = np.isfinite(c0)
+            skipped += np.count_nonzero(~done)
+            ours_gap, ours_angle, ours_jump = ours.gap[done], ours.angle[done], ours.jump[done]
+            c0, g1, angle, jump, kn = (x[done] for x in (c0, g1, angle, jump, kn))
+            np.testing.assert_allclose(ours_gap, c0, atol=1e-12 * L, err_msg=f"{name} {edge.faces}: gap")
+            folded = np.minimum(ours_angle, 180 - ours_angle)
+            np.testing.assert_allclose(folded, g1, atol=1e-6, err_msg=f"{name} {edge.faces}: G1 angle")
+            np.testing.assert_allclose(ours_angle, angle, atol=1e-6, err_msg=f"{name} {edge.faces}: oriented angle")
+            ok = np.isfinite(ours_jump)
+            # relative to the curvature scale of the point (GeomLProp differentiates the same NURBS)
+            relative = (np.abs(ours_jump - jump) / (kn + 1 / L))[ok]
+            worst[name] = max(worst[name], relative.max(initial=0))
+            checked += np.count_nonzero(done)
+    print(f"{checked} edge samples ({skipped} where OpenCASCADE is not done); largest relative G2 differences "
+          f"{worst}")
+    assert checked > 5000 and skipped < 0.01 * checked
+    # measured: 1.3e-9 on shell1's B-spline faces; 6.3e-5 on linkrods.step, whose analytic faces are rational
+    # NURBS (GeomConvert) and whose (u, v) come from projections: not explained yet, hence the loose bound
+    assert worst["occ/shell1.brep"] <= 1e-8 and worst["step/linkrods.step"] <= 2e-4
+
+
+def test_model_edges_known_sharp_and_tangent(model_reports):
+    model, rep = model_reports["occ/wing.brep"]
+    assert model.edges == [] and rep.edges == [] and rep.achieved == "G2"  # its four faces are not sewn
+    model, rep = model_reports["step/linkrods.step"]
+    sharp = [e for e in rep.edges if e.g1 > 45]
+    assert len(sharp) == 6 and all(e.g1 == pytest.approx(90, abs=1e-6) for e in sharp)  # plane against cylinder
+    assert all(e.achieved in ("G0", "none") for e in sharp)
+    tangent = [e for e in rep.edges if e.achieved == "G1"]
+    assert len(tangent) >= 60 and max(e.g1 for e in tangent) <= TOLERANCES["g1"]
+    text = rep.table(max_rows=3)
+    assert "face edge" in text and f"{len(rep.edges)} edges" in text

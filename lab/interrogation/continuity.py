@@ -14,6 +14,8 @@ report it (OpenCASCADE's ``LocalAnalysis_SurfaceContinuity``, Rhino's EdgeContin
 
 Every value comes from exact one-sided limits: each side is a Bézier patch (a B-spline surface's knot
 spans, the patches of a collection) evaluated on its own border, so nothing is estimated by differences.
+A model's face edges (:func:`lab.read`) pair each face's surface at the edge's pcurve points, with the
+faces' orientations (the angle then runs from 0° to 180°) and the file's exact edge tangents.
 
 An edge *achieves* G0 when ``g0 <= tol_g0``, G1 when also ``g1 <= tol_g1`` and G2 when also
 ``g2 <= tol_g2 * (max |κn| on the edge + 1/size)``; otherwise ``"none"``.  The default tolerances
@@ -171,7 +173,7 @@ def _normal_curvature(d, N, c):
     return (e * w1 * w1 + 2 * f * w1 * w2 + g * w2 * w2) / (E * w1 * w1 + 2 * F * w1 * w2 + G * w2 * w2)
 
 
-def measures(dA, dB, tA, tB):
+def measures(dA, dB, tA, tB, signs=None):
     """Gap, normal angle (degrees) and cross-boundary normal curvature jump at paired samples of two sides.
 
     Parameters
@@ -180,6 +182,11 @@ def measures(dA, dB, tA, tB):
         One-sided derivatives of the two sides at the same points of the edge, fields ``(k, 3)``.
     tA, tB : (k, 3) ndarray
         The edge's tangent on each side (any length, the same sense or not).
+    signs : ((k,) ndarray, (k,) ndarray), optional
+        The sides' orientations (+1: N = b_u x b_v, -1: the opposite, a reversed face).  Given, the angle is
+        between the oriented normals (0° to 180°, a fold-back is not tangent) and each side's normal
+        curvature is taken with its own normal; without, the angle is folded to at most 90° and side B is
+        compared as if it had side A's orientation.
 
     Returns
     -------
@@ -192,9 +199,15 @@ def measures(dA, dB, tA, tB):
         NA, NB = np.cross(dA.bu, dA.bv), np.cross(dB.bu, dB.bv)
         NA = NA / np.linalg.norm(NA, axis=-1, keepdims=True)
         NB = NB / np.linalg.norm(NB, axis=-1, keepdims=True)
+        if signs is not None:
+            NA, NB = NA * np.asarray(signs[0])[..., None], NB * np.asarray(signs[1])[..., None]
         cos = _dot(NA, NB)
-        angle = np.degrees(np.arctan2(np.linalg.norm(np.cross(NA, NB), axis=-1), np.abs(cos)))
-        flip = np.where(cos < 0, -1.0, 1.0)  # opposite orientations: compare as one surface
+        sine = np.linalg.norm(np.cross(NA, NB), axis=-1)
+        if signs is None:
+            angle = np.degrees(np.arctan2(sine, np.abs(cos)))
+            flip = np.where(cos < 0, -1.0, 1.0)  # opposite orientations: compare as one surface
+        else:
+            angle, flip = np.degrees(np.arctan2(sine, cos)), 1.0
         cA, cB = np.cross(NA, tA), np.cross(NB, tB)
         kA = _normal_curvature(dA, NA, cA)
         kB = flip * _normal_curvature(dB, NB, cB)
@@ -212,11 +225,14 @@ def _levels(g0, g1, g2, kn, tol, size):
     return out
 
 
-def _edges(meta, dA, dB, tA, tB, tol, size):
+def _edges(meta, dA, dB, tA, tB, tol, size, signs=None):
     """Edges from paired samples: fields of ``dA, dB`` and ``tA, tB`` have shape ``(edges, samples, 3)``;
-    ``meta`` holds per edge ``(kind, direction, value, faces, multiplicity)``."""
+    ``meta`` holds per edge ``(kind, direction, value, faces, multiplicity)``; ``signs`` as in :func:`measures`
+    with shape ``(edges, samples)``."""
     flat = lambda x: x.reshape(-1, 3)
-    gap, angle, jump, kn = measures(dA.map(flat), dB.map(flat), flat(tA), flat(tB))
+    if signs is not None:
+        signs = tuple(np.asarray(x).ravel() for x in signs)
+    gap, angle, jump, kn = measures(dA.map(flat), dB.map(flat), flat(tA), flat(tB), signs)
     shape = tA.shape[:2]
     gap, angle, jump, kn = (x.reshape(shape) for x in (gap, angle, jump, kn))
     ok = np.isfinite(angle) & np.isfinite(jump)
@@ -377,15 +393,18 @@ def _matched_edges(patches, tol, size, samples):
 
 
 def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None):
-    """G0/G1/G2 across the interior knot lines of a B-spline surface or the shared borders of Bézier patches.
+    """G0/G1/G2 across the knot lines of a B-spline surface, the shared borders of Bézier patches or a model's edges.
 
     Parameters
     ----------
-    obj : BSplineSurface or BezierPatches
-        A B-spline/NURBS surface (its knot lines, and the seam of a periodic direction), or a collection
-        of patches (borders of neighbours in its grid, or, without a grid, borders whose ends coincide).
+    obj : BSplineSurface, BezierPatches or lab.Model
+        A B-spline/NURBS surface (its knot lines, and the seam of a periodic direction), a collection
+        of patches (borders of neighbours in its grid, or, without a grid, borders whose ends coincide), or
+        a model read by :func:`lab.read` (the edges two faces share, ``model.edges``: each face evaluated at
+        the edge's pcurve, with the faces' orientations, so the angle runs from 0° to 180°).
     samples : int
-        Samples per knot span (or per border) along each edge.
+        Samples per knot span (or per border) along each edge; a model's edges keep the samples
+        :func:`lab.read` took.
     tol_g0, tol_g1, tol_g2 : float, optional
         Tolerances (see the module docstring; defaults :data:`TOLERANCES`).
 
@@ -421,10 +440,62 @@ def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None):
         if model is None:
             raise TypeError(f"continuity needs a lab.BSplineSurface, a lab.BezierPatches or a lab.Model; "
                             f"got {type(obj).__name__}")
-        raise TypeError("continuity of a lab.Model (face edges) is not available yet; pass a face's surface")
+        lo, hi = model.bounds()
+        size = float(np.linalg.norm(hi - lo)) or 1.0
+        edges = _model_edges(model, tol, size)
     return Continuity(edges, tol, size)
 
 
 def _as_model(obj):
     """``obj`` if it is a lab.Model (a model with faces), else None."""
     return obj if hasattr(obj, "faces") and type(obj).__name__ == "Model" else None
+
+
+def _model_edges(model, tol, size):
+    """Edges of a model: at each edge's samples both faces evaluated at their pcurve's (u, v), with the faces'
+    orientations; the edge's tangent from the file's 3-D curve (differences of its points where it has none).
+
+    Each face is evaluated once, at the samples of all its edges; edges with the same number of samples are
+    measured together.  The faces' derivatives at a pcurve point are the surface's own: one-sided where the
+    edge is the surface's border (the evaluator takes the span inside), not where a trimmed face's edge runs
+    along an interior knot line of lower continuity."""
+    edges = [e for e in model.edges if len(e.faces) == 2]
+    if not edges:
+        return []
+    wanted = {}
+    for n, e in enumerate(edges):
+        for side, (index, uv) in enumerate(zip(e.faces, e.uv)):
+            wanted.setdefault(index, []).append((n, side, np.asarray(uv, dtype=float)))
+    derivs = {}
+    for index, items in wanted.items():
+        face = model.face(index)
+        uv = np.concatenate([uv for _n, _s, uv in items])
+        d = face.surface.derivatives(uv[:, 0], uv[:, 1])
+        start = 0
+        for n, side, part in items:
+            stop = start + len(part)
+            derivs[n, side] = d.map(lambda x, a=start, b=stop: x[a:b])
+            start = stop
+    groups = {}
+    for n, e in enumerate(edges):
+        groups.setdefault(len(e.t), []).append(n)
+    out = [None] * len(edges)
+    for members in groups.values():
+        sides, signs = [], []
+        for side in (0, 1):
+            ds = [derivs[n, side] for n in members]
+            sides.append(Derivatives(*(np.stack([getattr(d, f) for d in ds]) for f in Derivatives._fields)))
+            signs.append(np.array([[-1.0 if model.face(edges[n].faces[side]).reversed else 1.0]
+                                   * len(edges[n].t) for n in members]))
+        t = np.stack([_edge_tangents(edges[n]) for n in members])
+        meta = [("face edge", None, None, tuple(edges[n].faces), None) for n in members]
+        for n, edge in zip(members, _edges(meta, sides[0], sides[1], t, t, tol, size, signs)):
+            out[n] = edge
+    return out
+
+
+def _edge_tangents(edge):
+    """The 3-D edge curve's tangents at its samples: the file's exact ones, else second-order differences."""
+    if getattr(edge, "tangents", None) is not None:
+        return np.asarray(edge.tangents, dtype=float)
+    return np.gradient(np.asarray(edge.points, dtype=float), np.asarray(edge.t, dtype=float), axis=0)

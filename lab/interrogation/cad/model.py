@@ -33,6 +33,7 @@ class Edge(NamedTuple):
     ``uv`` : ((k, 2) ndarray, (k, 2) ndarray), the edge's pcurve on each face at ``t``
     (in that face's parameters), so that both surfaces can be evaluated along the edge.
     ``t`` : (k,) ndarray, parameters of the 3-D edge curve.
+    ``tangents`` : (k, 3) ndarray or None, the 3-D edge curve's derivative at ``t`` (exact, from the file's curve).
     """
 
     index: int
@@ -40,6 +41,7 @@ class Edge(NamedTuple):
     points: np.ndarray
     uv: tuple
     t: np.ndarray
+    tangents: object = None
 
 
 class Face:

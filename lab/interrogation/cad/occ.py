@@ -281,7 +281,7 @@ def _shared_edges(shape, face_map, converted, domains):
     """
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Curve2d
-    from OCP.gp import gp_Pnt
+    from OCP.gp import gp_Pnt, gp_Vec
     from OCP.ShapeAnalysis import ShapeAnalysis_Surface
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
     from OCP.TopExp import TopExp
@@ -307,7 +307,11 @@ def _shared_edges(shape, face_map, converted, domains):
         try:
             curve = BRepAdaptor_Curve(edge)
             t = np.linspace(curve.FirstParameter(), curve.LastParameter(), PCURVE_SAMPLES)
-            points = np.array([[p.X(), p.Y(), p.Z()] for p in (curve.Value(float(x)) for x in t)])
+            points, tangents = np.empty((len(t), 3)), np.empty((len(t), 3))
+            p, d = gp_Pnt(), gp_Vec()
+            for n, x in enumerate(t):
+                curve.D1(float(x), p, d)
+                points[n], tangents[n] = (p.X(), p.Y(), p.Z()), (d.X(), d.Y(), d.Z())
             uvs = []
             for i, f in owners:
                 if i in converted:
@@ -320,7 +324,7 @@ def _shared_edges(shape, face_map, converted, domains):
         except Exception:  # noqa: BLE001, S112 - an edge OpenCASCADE cannot evaluate is not a shared edge of the model
             continue
         uvs = [_clip(uv, domains[i]) for uv, (i, _) in zip(uvs, owners)]
-        edges.append(Edge(len(edges), tuple(i for i, _ in owners), points, tuple(uvs), t))
+        edges.append(Edge(len(edges), tuple(i for i, _ in owners), points, tuple(uvs), t, tangents))
     return edges
 
 
