@@ -76,6 +76,7 @@ _NAMES = {
     "lab.interrogation.continuity": ("Continuity", "continuity"),
     "lab.interrogation.maps": ("draft_angle", "draft_map", "min_radius", "parting_line", "radius_map"),
     "lab.interrogation.combs": ("Comb", "border_combs", "comb", "comb_lines", "iso_comb"),
+    "lab.interrogation.probe": ("Probe", "probe", "probe_lines"),
     "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),

@@ -115,23 +115,17 @@ def _cad_maps(args, parser, surface, mesh):
     """--draft, --min-radius and --combs: the mesh recoloured, the lines drawn over it, the legend (None: unchanged)."""
     from .interrogation import combs as _combs
     from .interrogation import maps as _maps
-    from .view.legend import Legend
+    from .view.legend import draft_legend, radius_legend
 
     lines, legend = [], None
     try:
         if args.draft is not None:
             mesh = _maps.draft_map(mesh, args.draft)
             lines.append(_maps.parting_line(mesh))
-            stops = ((0.0, _maps.NEGATIVE), (0.5, _maps.ZERO), (1.0, _maps.POSITIVE))
-            legend = Legend(title=_("draft angle δ  [°]"), stops=stops,
-                            ticks=((0.0, "−90°"), (0.25, "−45°"), (0.5, "0°"), (0.75, "45°"), (1.0, "90°")),
-                            clim=(-90.0, 90.0), note=_("black line: parting line (0°); below 0: undercut"))
+            legend = draft_legend()
         elif args.min_radius is not None:
             mesh = _maps.radius_map(mesh, args.min_radius)
-            r = f"{args.min_radius:g}"
-            legend = Legend(title=_("min. radius of curvature 1/max(|κ1|, |κ2|)"),
-                            classes=((_("below r = {r}").format(r=r), _maps.FLAGGED),
-                                     (_("at least r = {r}").format(r=r), _maps.CLEAR)))
+            legend = radius_legend(args.min_radius)
     except ValueError as exc:
         parser.error(str(exc))
     if args.combs is not None:

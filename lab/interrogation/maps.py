@@ -24,7 +24,8 @@ import numpy as np
 from ..geometry import validation as _v
 from ..mesh.levels import level_lines
 
-__all__ = ["below_radius", "draft_angle", "draft_map", "min_radius", "parting_line", "radius_map"]
+__all__ = ["below_radius", "draft_angle", "draft_colors", "draft_map", "min_radius", "parting_line", "radius_colors",
+           "radius_map"]
 
 #: colours of the maps (RGB in 0 … 1): draft < 0 (undercut) blue, > 0 red, the threshold map's flagged points
 NEGATIVE, POSITIVE, ZERO = (0.15, 0.3, 0.9), (0.9, 0.2, 0.15), (0.93, 0.93, 0.93)
@@ -90,11 +91,21 @@ def draft_map(surface, pull=(0.0, 0.0, 1.0), *, limit=None, resolution=None):
     mesh = _mesh(surface, resolution)
     delta = draft_angle(np.asarray(mesh.point_data["N"]), pull)
     mesh.point_data["draft"] = delta
-    t = np.clip(np.nan_to_num(delta) / limit, -1.0, 1.0)[:, None]
+    mesh.point_data["RGB"] = draft_colors(delta, limit)
+    return mesh
+
+
+def draft_colors(delta, limit=90.0):
+    """RGB bytes (k, 3) of draft angles ``delta`` (degrees): white at 0, blue at −``limit``, red at +``limit``."""
+    t = np.clip(np.nan_to_num(np.asarray(delta, dtype=float)) / limit, -1.0, 1.0)[:, None]
     rgb = np.where(t < 0, np.asarray(ZERO) + (-t) * (np.asarray(NEGATIVE) - ZERO),
                    np.asarray(ZERO) + t * (np.asarray(POSITIVE) - ZERO))
-    mesh.point_data["RGB"] = np.round(255 * rgb).astype(np.uint8)
-    return mesh
+    return np.round(255 * rgb).astype(np.uint8)
+
+
+def radius_colors(below):
+    """RGB bytes (k, 3): red where ``below``, grey elsewhere."""
+    return np.round(255 * np.where(np.asarray(below)[:, None], FLAGGED, CLEAR)).astype(np.uint8)
 
 
 def parting_line(surface, pull=(0.0, 0.0, 1.0), *, resolution=None):
@@ -114,5 +125,5 @@ def radius_map(surface, r, *, resolution=None):
     mesh.point_data["min_radius"] = min_radius(k1, k2)
     below = below_radius(k1, k2, r)
     mesh.point_data["below"] = below
-    mesh.point_data["RGB"] = np.round(255 * np.where(below[:, None], FLAGGED, CLEAR)).astype(np.uint8)
+    mesh.point_data["RGB"] = radius_colors(below)
     return mesh

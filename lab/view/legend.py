@@ -325,3 +325,23 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
         note = _("all values {value} up to rounding ({spread})").format(
             value=format_values([0.5 * (lo + hi)], spacing=abs(hi) * 1e-3)[0], spread=_minus(_sci(hi - lo, 1)))
     return Legend(title=title, stops=stops, ticks=_linear_ticks(lo, hi), clim=(lo, hi), note=note)
+
+
+def draft_legend():
+    """The legend of :func:`lab.draft_map`'s colours (blue undercut … white 0° … red), with the parting line's note."""
+    from ..interrogation import maps
+
+    stops = ((0.0, maps.NEGATIVE), (0.5, maps.ZERO), (1.0, maps.POSITIVE))
+    return Legend(title=_("draft angle δ  [°]"), stops=stops,
+                  ticks=((0.0, "−90°"), (0.25, "−45°"), (0.5, "0°"), (0.75, "45°"), (1.0, "90°")),
+                  clim=(-90.0, 90.0), note=_("black line: parting line (0°); below 0: undercut"))
+
+
+def radius_legend(r):
+    """The legend of :func:`lab.radius_map`'s colours for the threshold ``r``."""
+    from ..interrogation import maps
+
+    text = decimal(f"{r:g}")
+    return Legend(title=_("min. radius of curvature 1/max(|κ1|, |κ2|)"),
+                  classes=((_("below r = {r}").format(r=text), maps.FLAGGED),
+                           (_("at least r = {r}").format(r=text), maps.CLEAR)))

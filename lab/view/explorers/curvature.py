@@ -15,6 +15,7 @@ from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, checkpoint, style_for
 from .edges import EdgeOverlay
+from .tools import CurvatureTools
 
 __all__ = ["CurvatureExplorer"]
 
@@ -140,6 +141,8 @@ class CurvatureExplorer(Explorer):
         self._manual = None
         if student:
             self.range_mode.disabled = True
+        # draft angle, minimum radius, combs and the point probe (lab/view/explorers/tools.py): on surfaces
+        self.tools = CurvatureTools(self) if not student and hasattr(surface, "derivatives") else None
         self._build_scene()
         self._observe(self.color_map, self.recolor)
         self._observe(self.measure, self.recolor)
@@ -157,7 +160,7 @@ class CurvatureExplorer(Explorer):
                 W.HBox([self.show_net, self.show_borders, self.show_edges, self.fit_button],
                        layout=W.Layout(width="auto", justify_content="space-between", align_items="center",
                                        flex_flow="row wrap")),
-                self.edge_legend, self.info]
+                self.edge_legend, self.info] + ([self.tools.box()] if self.tools is not None else [])
 
     # -- geometry -------------------------------------------------------------
 
@@ -357,6 +360,9 @@ class CurvatureExplorer(Explorer):
         if self.color_map.value is None or self.measure.value is None:  # a dropdown without a choice
             return
         self._sync_map_menu()
+        if self.tools is not None and self.tools.active:
+            self.tools.recolor_map()
+            return
         if self.student is not None:
             self._recolor_student()
         else:
@@ -366,6 +372,8 @@ class CurvatureExplorer(Explorer):
 
     def legend(self):
         """The colour bar (or classification legend) of the current colours, in curvature units."""
+        if self.tools is not None and self.tools.active:
+            return self.tools.legend()
         measure = self.measure.value
         name = self._map_name()
         values = self._legend_values()

@@ -1,0 +1,154 @@
+"""The curvature explorer's CAD tools: the draft-angle and minimum-radius maps, curvature combs and a point probe.
+
+The probe is a (u, v) control (two sliders), not picking: in the browser-rendered view (PyVista's ``client``
+backend, vtk.js) a pick happens in the browser and never reaches the kernel, where the exact curvature lives;
+the sliders work the same in every backend and in the static picture.
+"""
+
+import html
+
+import ipywidgets as W
+import numpy as np
+
+from ...i18n import N_, _
+from ...interrogation import combs as _combs
+from ...interrogation import maps as _maps
+from ...interrogation.probe import probe, probe_lines
+from .. import legend as _legend
+from .. import style
+from .base import _dropdown, _layout, style_for
+
+#: the pull directions offered (label, vector)
+PULLS = (("+z", (0.0, 0.0, 1.0)), ("−z", (0.0, 0.0, -1.0)), ("+x", (1.0, 0.0, 0.0)), ("−x", (-1.0, 0.0, 0.0)),
+         ("+y", (0.0, 1.0, 0.0)), ("−y", (0.0, -1.0, 0.0)))
+
+
+class CurvatureTools:
+    """Widgets and overlays the :class:`~lab.view.explorers.CurvatureExplorer` shows below its curvature controls.
+
+    ``map`` chooses what colours the surface: ``"curvature"`` (the explorer's measure and map), ``"draft"`` (the
+    draft angle against ``pull``, with the parting line) or ``"radius"`` (red where the smallest radius of
+    curvature is below ``radius``).  ``combs`` draws curvature combs along the borders and ``comb_count``
+    iso-curves in each direction; ``probe`` shows K, H, κ1, κ2, d1, d2 and the Dupin indicatrix at ``(u, v)``.
+    """
+
+    def __init__(self, explorer):
+        self.e = e = explorer
+        self.surface = e.source
+        c = e._control
+        (u0, u1), (v0, v1) = self.surface.domain
+        self.map = c(_dropdown([(_("curvature"), "curvature"), (_("draft angle"), "draft"),
+                                (_("radius below r"), "radius")], "curvature", N_("map")))
+        self.pull = c(W.Dropdown(options=[(label, i) for i, (label, _v) in enumerate(PULLS)], value=0,
+                                 description=_("pull"), style=style_for(), layout=_layout()))
+        self.radius = c(W.BoundedFloatText(value=1.0, min=1e-9, max=1e9, description=_("r"), style=style_for(),
+                                           layout=_layout()))
+        self.combs = c(W.Checkbox(value=False, description=_("curvature combs"), indent=False,
+                                  layout=W.Layout(width="auto")))
+        self.comb_scale = c(W.FloatLogSlider(value=0.05, base=10, min=-4, max=1, description=_("comb scale"),
+                                             continuous_update=False, style=style_for(), layout=_layout()))
+        self.comb_density = c(W.IntSlider(value=32, min=4, max=128, description=_("teeth"), continuous_update=False,
+                                          style=style_for(), layout=_layout()))
+        self.comb_count = c(W.IntSlider(value=2, min=0, max=8, description=_("iso-curves"), continuous_update=False,
+                                        style=style_for(), layout=_layout()))
+        self.probe = c(W.Checkbox(value=False, description=_("point probe"), indent=False,
+                                  layout=W.Layout(width="auto")))
+        self.u = c(W.FloatSlider(value=0.5 * (u0 + u1), min=u0, max=u1, step=(u1 - u0) / 200, description="u",
+                                 continuous_update=False, style=style_for(), layout=_layout()))
+        self.v = c(W.FloatSlider(value=0.5 * (v0 + v1), min=v0, max=v1, step=(v1 - v0) / 200, description="v",
+                                 continuous_update=False, style=style_for(), layout=_layout()))
+        self.readout = c(W.HTML())
+        self.lines_actor = None
+        self.last_probe = None
+        for w in (self.map, self.pull, self.radius):
+            e._observe(w, self.recolor_map)
+        for w in (self.combs, self.comb_scale, self.comb_density, self.comb_count, self.probe, self.u, self.v):
+            e._observe(w, self.update_lines)
+
+    @property
+    def active(self):
+        """True when a CAD map (not the curvature) colours the surface."""
+        return self.map.value != "curvature"
+
+    def box(self):
+        return W.VBox([self.map, self.pull, self.radius, self.combs, self.comb_scale, self.comb_density,
+                       self.comb_count, self.probe, self.u, self.v, self.readout], layout=W.Layout(width="auto"))
+
+    # -- maps ---------------------------------------------------------------------------------
+
+    def _pull(self):
+        return PULLS[self.pull.value][1]
+
+    def recolor_map(self):
+        """Colour the explorer's mesh by the chosen CAD map (or hand back to the curvature colours)."""
+        e = self.e
+        self.pull.disabled = self.map.value != "draft"
+        self.radius.disabled = self.map.value != "radius"
+        if not self.active:
+            e.actor.mapper.SetColorModeToMapScalars()
+            e.recolor()
+            self.update_lines()
+            return
+        m = e.mesh.point_data
+        if self.map.value == "draft":
+            m["cad"] = _maps.draft_angle(np.nan_to_num(np.asarray(m["N"], dtype=float)), self._pull())
+            m["RGB"] = _maps.draft_colors(m["cad"])
+        else:
+            m["cad"] = _maps.min_radius(m["k1"], m["k2"])
+            m["RGB"] = _maps.radius_colors(_maps.below_radius(m["k1"], m["k2"], self.radius.value))
+        e.actor.mapper.SetScalarModeToUsePointFieldData()
+        e.actor.mapper.SelectColorArray("RGB")
+        e.mesh.point_data.active_scalars_name = "RGB"
+        e.actor.mapper.SetColorModeToDirectScalars()
+        e.actor.mapper.ScalarVisibilityOn()
+        self.update_lines()
+
+    def legend(self):
+        return _legend.draft_legend() if self.map.value == "draft" else _legend.radius_legend(self.radius.value)
+
+    # -- lines: parting line, combs, probe ---------------------------------------------------------
+
+    def lines(self):
+        """The overlay lines now shown (pyvista.PolyData or None)."""
+        parts = []
+        if self.map.value == "draft":
+            mesh = self.e.mesh.copy()
+            mesh.point_data["draft"] = np.asarray(mesh.point_data["cad"], dtype=float)
+            parts.append(_maps.parting_line(mesh))
+        if self.combs.value:
+            found = _combs.border_combs(self.surface, density=self.comb_density.value, scale=self.comb_scale.value,
+                                        count=self.comb_count.value)
+            parts.append(_combs.comb_lines(found))
+        self.last_probe = None
+        if self.probe.value:
+            self.last_probe = probe(self.surface, self.u.value, self.v.value)
+            parts.append(probe_lines(self.last_probe))
+        parts = [p for p in parts if p.n_points]
+        if not parts:
+            return None
+        return parts[0] if len(parts) == 1 else parts[0].merge(parts[1:])
+
+    def update_lines(self):
+        e = self.e
+        if self.lines_actor is not None:
+            e.plotter.remove_actor(self.lines_actor)
+            self.lines_actor = None
+        lines = self.lines()
+        if lines is not None:
+            self.lines_actor = style.add_lines_on_surface(e.plotter, lines, pickable=False)
+        self.readout.value = self._probe_text()
+        e.refresh()
+
+    def _probe_text(self):
+        p = self.last_probe
+        if p is None:
+            return ""
+        def num(x):
+            return _legend.format_values([x], spacing=abs(x) * 1e-3 or 1e-6)[0]
+        rows = [("K", p.K), ("H", p.H), ("κ1", p.k1), ("κ2", p.k2)]
+        text = ", ".join(f"{name} = {num(value)}" for name, value in rows)
+        if p.umbilic:
+            text += "; " + _("umbilic: every direction is principal")
+        else:
+            text += "; " + _("d1, d2: the lines through the point; the conics: Dupin's indicatrix")
+        return f"<small>{html.escape(text)}</small>"
