@@ -61,7 +61,7 @@ def test_explorer_tools_offscreen():
         t.pull.value = 2  # +x
         rgb = np.asarray(e.mesh.point_data["RGB"], dtype=int)
         assert (rgb[:, 0] - rgb[:, 2] > 60).any() and (rgb[:, 2] - rgb[:, 0] > 60).any()  # both sides of the parting line
-        assert "δ" in e.legend().title
+        assert "δ" in e.legend().title and e.picture_title() == "draft angle, pull +x, depth 1"
         t.map.value = "radius"
         t.radius.value = 2.0
         below = np.all(np.asarray(e.mesh.point_data["RGB"]) == np.round(255 * np.array(t_flagged())), axis=1)

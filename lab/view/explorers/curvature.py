@@ -386,6 +386,8 @@ class CurvatureExplorer(Explorer):
         return self.values()
 
     def picture_title(self):
+        if self.tools is not None and self.tools.active:
+            return self.tools.title(self.depth.value)
         maps = {v: k for k, v in self.color_map.options}
         what = _legend.MEASURES[self.measure.value][1] if self.measure.value != "classification" else "K"
         title = _("{what}, {map}, depth {depth}").format(

@@ -103,6 +103,13 @@ class CurvatureTools:
         e.actor.mapper.ScalarVisibilityOn()
         self.update_lines()
 
+    def title(self, depth):
+        """The picture's title while a CAD map colours the surface."""
+        if self.map.value == "draft":
+            return _("draft angle, pull {pull}, depth {depth}").format(pull=PULLS[self.pull.value][0], depth=depth)
+        return _("radius of curvature below {r}, depth {depth}").format(
+            r=_legend.decimal(f"{self.radius.value:g}"), depth=depth)
+
     def legend(self):
         return _legend.draft_legend() if self.map.value == "draft" else _legend.radius_legend(self.radius.value)
 
