@@ -34,15 +34,26 @@ def run(task, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
     return run_task(TASKS[task], obj, graded=graded, seed=seed, timeout=timeout)
 
 
-def _check(name):
-    def check(obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
-        return run(name, obj, graded=graded, seed=seed, timeout=timeout)
+class _Check:
+    """``check.<task>(obj)``: a callable per task whose docstring is read from the task only when asked for, so that
+    ``from lab import check`` imports no task's cases (the trimming and geodesic tasks pull in their libraries)."""
 
-    check.__name__ = check.__qualname__ = name
-    task = TASKS[name]
-    check.__doc__ = (f"Check your ``{name}`` on fresh cases; it must return {task.summary}.\n\n"
-                     "Returns a Report (shown in the notebook); ``seed`` reproduces the cases.")
-    return check
+    def __init__(self, name):
+        self.__name__ = self.__qualname__ = name
+
+    def __call__(self, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
+        return run(self.__name__, obj, graded=graded, seed=seed, timeout=timeout)
+
+    @property
+    def __doc__(self):
+        return (f"Check your ``{self.__name__}`` on fresh cases; it must return {TASKS[self.__name__].summary}.\n\n"
+                "Returns a Report (shown in the notebook); ``seed`` reproduces the cases.")
+
+    def __repr__(self):
+        return f"<check {self.__name__}>"
+
+
+_check = _Check
 
 
 warmup = _check("warmup")
