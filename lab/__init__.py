@@ -81,6 +81,7 @@ _NAMES = {
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
     "lab.interrogation.cad": ("Model", "read", "write"),
+    "lab.interrogation.cad.kernel": ("occ_curvature",),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
     "lab.i18n": ("set_language", "language"),
     "lab.teaching.unfinished": ("exercise_mode",),

@@ -12,7 +12,8 @@ ROOT = Path(__file__).resolve().parent.parent
 DU = re.compile(r"\b(du|dich|dir|dein|deine|deinen|deinem|deiner|deines|Du|Dein|Deine|Deinen|Deinem|Deiner|"
                 r"hast|bist|kannst|musst|darfst|siehst|"
                 r"Vervollständige|Vergleiche|Schreibe|Schreib|Gib|Nimm|Ändere|Wähle|Setze|Führe|Öffne|Verwende|"
-                r"Ersetze|Berechne|Prüfe|Probiere|Wechsle|Verschiebe|Zeichne|Bewege|Geh|Entwirf|Skaliere)\b")
+                r"Ersetze|Berechne|Prüfe|Probiere|Wechsle|Verschiebe|Zeichne|Bewege|Geh|Entwirf|Skaliere|"
+                r"gib|nimm|verwende|prüfe|vergleiche|teile|wähle|schreib|schreibe)\b")
 
 
 def _german_texts():
@@ -43,6 +44,7 @@ def test_german_messages_say_sie():
 
 def test_the_du_check_finds_du_forms():
     assert DU.search("Vervollständige `h(x)`; gib ein Tupel zurück") and DU.search("deine Werte")
+    assert DU.search("NaN: nimm √(max(H² − K, 0))") and DU.search("verwende tol, keine feste Zahl")
     assert not DU.search("Vervollständigen Sie `h(x)`; geben Sie ein Tupel zurück; Ihre Werte")
 
 
@@ -59,6 +61,8 @@ ENGLISH = {"the", "of", "and", "is", "are", "with", "from", "your", "you", "not"
 #: words that are English and allowed: code identifiers and names a German text uses as they are
 #: ("Patch" and "Start" are German words too)
 ALLOWED = {"lab", "signed", "log", "signed-log", "off", "coff", "cbez333", "jupyterlab", "explorer", "patch", "start"}
+#: the kinds of a model's faces as code names them (``face.kind == "Cylinder"``, OpenCASCADE's type names)
+KINDS = {"Plane", "Cylinder", "Cone", "Sphere", "Torus"}
 
 
 def english_words(text):
@@ -66,7 +70,7 @@ def english_words(text):
     text = re.sub(r"`[^`]*`|'[^'\n]*'|\"[^\"\n]*\"", " ", text)  # quoted code and values
     words = []
     for token in re.findall(r"[A-Za-zÄÖÜäöüß_.()\[\]-]+", text):
-        if "_" in token or "." in token.strip(".") or "(" in token or re.search(r"[a-z][A-Z]", token):
+        if "_" in token or "." in token.strip(".") or "(" in token or re.search(r"[a-z][A-Z]", token) or token in KINDS:
             continue
         word = token.strip(".()[]-").lower()
         if word in ENGLISH and word not in ALLOWED:

@@ -16,7 +16,7 @@ from tests.notebook_support import SharedKernel, text_of
 ROOT = Path(__file__).resolve().parent.parent
 EXERCISES = [p for lang in ("en", "de") for p in sorted((ROOT / "exercises" / lang).glob("[0-9][0-9]_*.ipynb"))]
 
-pytestmark = pytest.mark.xdist_group("run_all")  # one kernel per language for all 22 notebooks, on one worker
+pytestmark = pytest.mark.xdist_group("run_all")  # one kernel per language for all 26 notebooks, on one worker
 
 #: How the one-line messages of exercise mode (lab.teaching.unfinished) and a check's stub report begin.
 LINES = {"en": ("… Stopped here:", "… Not run:"), "de": ("… Hier angehalten:", "… Nicht ausgeführt:")}
@@ -37,6 +37,10 @@ STATED = {
          lambda n: int(n) == 10),
         ("only the first two", r"start \(0.1, 0.5\): (\d+) of 15 curves closed \(s_L = ([^)]*)\)",
          lambda n, which: int(n) == 2 and which == "0.3, 0.6")],
+    "11_real_part": [
+        ("made of 32 bicubic Bézier patches", r"Model\((\d+) faces: (\d+) BezierSurface", lambda n, b: int(n) == int(b) == 32),
+        ("a sheet of 99 B-spline faces", r"Model\((\d+) faces: (\d+) BSplineSurface; \d+ shared edges from \S*shell1",
+         lambda n, b: int(n) == int(b) == 99)],
     "09_dill_gallery": [
         ("a crown with $K \\approx 0.01", r"crown\s+K = \+(\S+) 1/m²", lambda K: 0.005 <= float(K) < 0.015)],
 }

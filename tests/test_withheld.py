@@ -55,6 +55,8 @@ ANSWERS = {
     "principal_directions": ["lab.geometry.directions.from_derivatives", "lab.geometry.directions.eigen",
                              "lab.geometry.curvature.shape_operator", "lab.geometry.curvature.from_derivatives",
                              f"{SURFACE}.curvature", f"{SURFACE}._directions", "lab.interrogation.umbilics.traceless"],
+    # the lab's exact curvature is the tool this task teaches to use on a real part; the judgement is the student's
+    "developable_faces": [],
     "signed_area": ["lab.interrogation.trimming.loops.signed_area",
                     "lab.interrogation.trimming.surface.TrimmedSurface.area_uv"],
 }

@@ -16,7 +16,7 @@ from .runner import DEFAULT_TIMEOUT, latest_syntax_error, run_task
 from .spec import build_report, judge_outcome
 from .tasks import TASKS
 
-__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "christoffel", "corner_derivatives", "curvatures", "curve_curvature", "derivative_nets", "f1", "f2", "f3", "focal_points", "fundamental_forms", "h", "principal_directions", "reflect", "run", "signed_area", "start_velocity", "visualize_curvature", "warmup"]
+__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "christoffel", "corner_derivatives", "curvatures", "curve_curvature", "derivative_nets", "developable_faces", "f1", "f2", "f3", "focal_points", "fundamental_forms", "h", "principal_directions", "reflect", "run", "signed_area", "start_velocity", "visualize_curvature", "warmup"]
 
 
 def run(task, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
@@ -72,4 +72,5 @@ reflect = _check("reflect")
 christoffel = _check("christoffel")
 start_velocity = _check("start_velocity")
 signed_area = _check("signed_area")
+developable_faces = _check("developable_faces")
 principal_directions = _check("principal_directions")

@@ -181,11 +181,33 @@ def _call_patches(cls, nets, mode, color_map):
     return {"kind": "patches", "curvature": curvature, "colors": colors}
 
 
+def _call_model(func, items):
+    """Build a :class:`lab.Model` of NURBS faces from the case's plain numbers, call ``func(model)``, read back the
+    file indices it returns (a list, tuple, set or array of integers)."""
+    from ..interrogation.cad.model import Face, Model
+    from ..model.surface import BSplineSurface
+
+    if not callable(func):
+        raise TypeError(_("expected a function; got {kind}").format(kind=type(func).__name__))
+    faces = []
+    for k in range(int(items[0])):
+        index, kind, P, knots_u, knots_v, degree_u, degree_v, W = items[1 + 8 * k : 9 + 8 * k]
+        surface = BSplineSurface(P, knots_u, knots_v, int(degree_u), int(degree_v), weights=W if W.size else None)
+        faces.append(Face(int(index), kind, surface))
+    value = func(Model(faces, name="part"))
+    if isinstance(value, (set, frozenset)):
+        value = sorted(value)
+    if isinstance(value, (list, tuple)) and not value:
+        value = np.zeros(0)
+    return encode(value)
+
+
 def call(protocol, obj, args):
     """Call the student's ``obj`` on ``args`` by the task's protocol; the result as plain numbers (JSON-able).
 
     ``"function"``: ``obj(*args)``; ``"patches"``: ``obj`` is a subclass of lab.BezierPatches, built on the
-    control nets ``args[0]`` and asked for ``visualize_curvature(args[1], args[2])``.
+    control nets ``args[0]`` and asked for ``visualize_curvature(args[1], args[2])``; ``"model"``: ``obj(model)``
+    on a :class:`lab.Model` built from ``args`` (see :func:`lab.teaching.tasks_models`).
     """
     if protocol == "function":
         if not callable(obj):
@@ -193,6 +215,8 @@ def call(protocol, obj, args):
         return encode(obj(*args))
     if protocol == "patches":
         return _call_patches(obj, *args)
+    if protocol == "model":
+        return _call_model(obj, args)
     raise ValueError(f"unknown protocol {protocol!r}")
 
 

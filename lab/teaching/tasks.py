@@ -16,7 +16,7 @@ MODULES = {"warmup": "tasks_curvature", "curve_curvature": "tasks_curvature", "f
            "f3": "tasks_colors", "visualize_curvature": "tasks_colors", "focal_points": "tasks_interrogation",
            "reflect": "tasks_interrogation", "christoffel": "tasks_interrogation",
            "start_velocity": "tasks_interrogation", "signed_area": "tasks_trimming",
-           "principal_directions": "tasks_smoothness"}
+           "developable_faces": "tasks_models", "principal_directions": "tasks_smoothness"}
 
 
 class _Registry(collections.abc.Mapping):

@@ -9,6 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ...i18n import _
 from .orientation import flip
 
 __all__ = ["Edge", "Face", "Model", "Problem"]
@@ -163,6 +164,7 @@ class Model:
 
     def __repr__(self):
         kinds = ", ".join(f"{n} {k}" for k, n in sorted(self.kinds().items()))
-        bad = f", {len(self.problems)} problems" if self.problems else ""
-        where = f" from {self.path}" if self.path else ""
-        return f"Model({len(self.faces)} faces: {kinds}; {len(self.edges)} shared edges{bad}{where})"
+        bad = _(", {n} problems").format(n=len(self.problems)) if self.problems else ""
+        where = _(" from {path}").format(path=self.path) if self.path else ""
+        return _("Model({n} faces: {kinds}; {edges} shared edges{problems}{where})").format(
+            n=len(self.faces), kinds=kinds, edges=len(self.edges), problems=bad, where=where)
