@@ -141,7 +141,8 @@ def test_kernel_survives_with_default_comm_settings(browser, tmp_path):
         _exercise_explorers(nb, "default-settings")
         explorer = nb.explorers().first
         _move_depth(nb.page, explorer)  # depth 2 -> 3: a recomputation, rendered from a callback
-        nb.run_cell("e = [x for x in lab.view.explorers.base._INSTANCES if getattr(x, 'student', 1) is None][0]")
+        nb.run_cell("e = [x for x in lab.view.explorers.base._INSTANCES if getattr(x, 'student', 1) is None][0]\n"
+                    "print('found the library explorer')", "found the library explorer")
         # the slider's message and the recomputation take their time on a loaded machine: wait for the state, not a clock
         state = _wait_value(nb, "(e.depth.value, e.status.value)", lambda text: text == "(3, '')")
         out = nb.run_cell("print('kernel-alive', 6 * 7, lab.widgets.callback_threads())", "kernel-alive 42")
