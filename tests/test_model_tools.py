@@ -6,6 +6,7 @@ part; the sample parts come with Debian's occt-misc and are skipped, saying why,
 """
 
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -130,3 +131,85 @@ def test_geodesics_on_a_trimmed_bspline_face_follow_the_surfaces_own():
         assert gap <= 2e-10 * scale
     iso = lab.polar_isodistance(fan, [100.0, 200.0])  # the isodistance curves work on the cut fan
     assert all(len(pieces) >= 1 for pieces in iso)
+
+
+# ----------------------------------------------------------------------------- lines across face borders
+
+
+def test_join_polylines_joins_ends_within_the_tolerance_only():
+    from lab.mesh.levels import join_polylines
+
+    a = np.array([[0.0, 0, 0], [1, 0, 0]])
+    b = np.array([[1.001, 0, 0], [2, 0, 0]])  # starts 0.001 after a ends
+    c = np.array([[2, 0, 0.002], [2, 1, 0]])  # 0.002 from b's end
+    far = np.array([[5.0, 0, 0], [6, 0, 0]])
+    joined = join_polylines([c, far, a, b], tol=0.01)
+    assert len(joined) == 2
+    long = max(joined, key=len)
+    long = long if long[0, 1] == 0 else long[::-1]  # either direction
+    np.testing.assert_allclose(long[[0, -1]], [[0, 0, 0], [2, 1, 0]])  # a, b, c in order
+    np.testing.assert_allclose(long[1], [1.0005, 0, 0])  # the two ends replaced by their midpoint
+    assert len(join_polylines([a, b], tol=1e-4)) == 2  # too far apart: two lines
+    ring = join_polylines([a, b[::-1], np.array([[2.0, 0, 0], [1, 1, 0], [0, 0, 1e-4]])], tol=0.01)
+    assert len(ring) == 1 and np.array_equal(ring[0][0], ring[0][-1])  # a cycle closes
+    square = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 0, 0]])
+    kept = join_polylines([square, a], tol=0.5)  # a closed line is left as it is; the short one is not closed
+    assert len(kept) == 2 and any(np.array_equal(line, square) for line in kept)
+
+
+@needs_data
+def test_reflection_lines_run_across_tangent_face_borders_and_break_at_kinks():
+    """The hammer's mesh has one vertex set per face.  Its 12 reflection lines end on face borders when each face is
+    taken alone; joined, no line ends on a G1 or G2 edge any more (away from the corners where a kink meets it),
+    while every end on a G0 edge (a kink: the reflected light jumps) stays."""
+    from scipy.spatial import cKDTree
+
+    from lab.interrogation import meshes as M
+
+    model = lab.models.hammer()
+    rep = lab.continuity(model)
+    mesh = model.to_mesh(16, 16)
+    apart = mesh.copy()
+    del apart.point_data["face"]  # the same mesh, not known to be a model's: lines stop at every border
+    joined = M.polylines(lab.reflection_lines(mesh, count=12))
+    alone = M.polylines(lab.reflection_lines(apart, count=12))
+    X = np.asarray(mesh.points)
+    T = M._triangles(mesh)
+    h = float(np.median(np.linalg.norm(X[T] - X[np.roll(T, 1, axis=1)], axis=-1)))
+    smooth = cKDTree(np.concatenate([e.points for e in rep.edges if e.achieved in ("G1", "G2")]))
+    kinks = cKDTree(np.concatenate([e.points for e in rep.edges if e.achieved in ("G0", "none")]))
+
+    def ends(lines):
+        return np.array([p for line in lines if not np.array_equal(line[0], line[-1]) for p in (line[0], line[-1])])
+
+    def on(tree, points, away_from=None):
+        near = tree.query(points)[0] < 0.1 * h
+        if away_from is not None:
+            near &= away_from.query(points)[0] > 0.5 * h
+        return int(np.count_nonzero(near))
+
+    assert on(smooth, ends(alone), kinks) >= 10  # taken face by face, lines end on the smooth edges
+    assert on(smooth, ends(joined), kinks) == 0  # joined: they run on across them
+    assert on(kinks, ends(joined)) == on(kinks, ends(alone)) >= 20  # and break at every kink
+    assert len(joined) < len(alone)
+    iso = lab.isophotes(model, count=6)  # a model goes in as it is (16 lines per face)
+    assert iso.n_lines > 0
+
+
+def test_focal_surface_of_a_model_per_face(drilled):
+    """F = X + a H N on every face with the face's normal: on the drilled cylinder's wall (H = ∓1/(2R) with N
+    outward or inward, the same point either way) F lies on the cylinder of radius R − a/(2R), on the hole's
+    wall at |RHOLE − a/(2 RHOLE)| from the drill's axis (x at z = 3); on the flat caps (H = 0) F = X."""
+    a = 0.8
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        focal = lab.focal_surface(drilled, scale=a, function="mean", resolution=8)
+    F = np.asarray(focal.points)
+    face = np.asarray(focal.point_data["face"])
+    wall = face == _wall(drilled).index
+    hole = np.isin(face, [f.index for f in drilled.faces if f.kind == "Cylinder" and f is not _wall(drilled)])
+    assert wall.any() and hole.any()
+    np.testing.assert_allclose(np.hypot(F[wall, 0], F[wall, 1]), R - a / (2 * R), atol=1e-9)
+    np.testing.assert_allclose(np.hypot(F[hole, 1], F[hole, 2] - ZHOLE), abs(RHOLE - a / (2 * RHOLE)), atol=1e-9)
+    flat = ~(wall | hole)
+    np.testing.assert_allclose(F[flat], focal.point_data["X"][flat], atol=1e-12)
