@@ -7,13 +7,9 @@ on, as PyVista meshes.  Every function accepts
   ``resolution x resolution`` grid, default 64),
 * a :class:`lab.BezierPatches` (``patches.to_mesh(resolution)``, default 8
   quads per patch edge), or
-* a :class:`pyvista.PolyData` with point data ``K, H, k1, k2, N`` (as
-  :mod:`lab.mesh` makes them), or
-* a :class:`lab.Model` (a part from :func:`lab.read`: ``model.to_mesh(resolution, resolution)``, default 16
-  lines per face).  Its faces are not welded to each other; reflection lines, isophotes and parabolic lines
-  are joined across face borders where their ends meet (:func:`lab.mesh.levels.join_polylines`, within
-  :data:`JOIN_RTOL` of the mesh's median edge), so a line runs on across a tangent-continuous border and
-  breaks where the faces meet at a kink.
+* a :class:`pyvista.PolyData` with point data ``K, H, k1, k2, N`` (as :mod:`lab.mesh` makes them), or
+* a :class:`lab.Model` (``model.to_mesh(resolution, resolution)``, default 16 lines per face): level lines
+  are joined across its face borders where their ends meet (:mod:`lab.interrogation.faces`).
 
 The mathematics lives in :mod:`lab.focal` and :mod:`lab.reflection`.
 
@@ -37,24 +33,15 @@ import pyvista as pv
 from ..geometry import validation as _v
 from ..i18n import _, decimal
 from ..mesh.build import _faces, surface_mesh
-from ..mesh.levels import join_polylines, level_lines
+from ..mesh.levels import level_lines
 from ..model.patches import BezierPatches
 from ..model.surface import Surface
+from . import faces as _models
 from . import focal as _focal
 from . import reflection as _refl
 
-__all__ = [
-    "FocalSheetWarning",
-    "as_curvature_mesh",
-    "focal_sheets",
-    "focal_surface",
-    "is_model",
-    "isophotes",
-    "parabolic_lines",
-    "polylines",
-    "reflection_lines",
-    "stripe_mapping",
-]
+__all__ = ["FocalSheetWarning", "as_curvature_mesh", "focal_sheets", "focal_surface", "isophotes", "parabolic_lines",
+           "polylines", "reflection_lines", "stripe_mapping"]
 
 #: Point data a mesh must carry to be interrogated.
 REQUIRED_POINT_DATA = ("K", "H", "k1", "k2", "N")
@@ -63,13 +50,6 @@ REQUIRED_POINT_DATA = ("K", "H", "k1", "k2", "N")
 SURFACE_RESOLUTION = 64
 PATCH_RESOLUTION = 8
 MODEL_RESOLUTION = 16
-
-#: Level lines of neighbouring faces of a model are joined where their ends lie closer than this times the
-#: mesh's median edge length.  Across a tangent-continuous border the ends differ only by the two faces'
-#: different sampling of the edge; across a kink the lines jump.  Measured with 12 reflection lines on the
-#: hammer and linkrods at 8 and 16 lines per face: ends at G1/G2 edges (and at linkrods' tangent edges whose
-#: gap exceeds the default G0 tolerance) at most 0.062 of an edge apart, ends at G0 edges at least 0.33.
-JOIN_RTOL = 0.15
 
 #: Classical focal sheets keep radii of curvature up to this multiple of the mesh diagonal by default.
 MAX_RADIUS_FACTOR = 100.0
@@ -124,38 +104,13 @@ def as_curvature_mesh(surface, resolution=None):
     if isinstance(surface, BezierPatches):
         n = _v.as_positive_int(PATCH_RESOLUTION if resolution is None else resolution, "resolution", minimum=1)
         return surface.to_mesh(n)
-    if is_model(surface):
+    if _models.is_model(surface):
         n = _v.as_positive_int(MODEL_RESOLUTION if resolution is None else resolution, "resolution", minimum=2)
         return surface.to_mesh(n, n)
     raise TypeError(
         f"expected a lab.Surface, a lab.BezierPatches, a lab.Model or a pyvista.PolyData with curvature point data; "
         f"got {type(surface).__name__}"
     )
-
-
-def is_model(obj):
-    """Whether ``obj`` is a :class:`lab.Model` (a part read by :func:`lab.read`: faces and the edges they share)."""
-    return hasattr(obj, "faces") and hasattr(obj, "edges") and hasattr(obj, "to_mesh") and not isinstance(
-        obj, pv.DataSet)
-
-
-def _join_tol(mesh):
-    """How far apart the ends of level lines on two faces of a model's mesh may be to be joined (None: not a
-    model's mesh, or one face only)."""
-    if "face" not in mesh.point_data:
-        return None
-    face = np.asarray(mesh.point_data["face"])
-    if face.size == 0 or face.min() == face.max():
-        return None
-    T = _triangles(mesh)
-    X = np.asarray(mesh.points, dtype=float)
-    edges = np.linalg.norm(X[T] - X[np.roll(T, 1, axis=1)], axis=-1)
-    return JOIN_RTOL * float(np.median(edges))
-
-
-def _joined(lines, tol):
-    """Level lines joined across face borders (:func:`_join_tol`), or as they are."""
-    return lines if tol is None or len(lines) < 2 else join_polylines(lines, tol)
 
 
 def _triangles(mesh):
@@ -417,7 +372,7 @@ def parabolic_lines(surface, *, tol=None, resolution=None):
         tol = K_ZERO_RTOL / max(_diagonal(X), 1e-300) ** 2
     else:
         tol = _v.as_number(tol, "tol", minimum=0)
-    lines = _joined(_focal.parabolic_lines(X, _triangles(mesh), mesh.point_data["K"], tol), _join_tol(mesh))
+    lines = _models.joined(_focal.parabolic_lines(X, _triangles(mesh), mesh.point_data["K"], tol), _models.join_tol(mesh))
     return _lines_mesh([((i,), [line]) for i, line in enumerate(lines)], ("line",))
 
 
@@ -597,10 +552,10 @@ def reflection_lines(surface, direction=(1.0, 0.0, 0.0), count=9, *, spacing=Non
     valid = P1 > 0
     T = _triangles(mesh)
     groups = []
-    join = _join_tol(mesh)
+    join = _models.join_tol(mesh)
     for j in range(count):
         values = np.where(valid, P0 - j * P1, np.nan)
-        groups.append(((j,), _joined(level_lines(X, T, values, 0.0), join)))
+        groups.append(((j,), _models.joined(level_lines(X, T, values, 0.0), join)))
     out = _lines_mesh(groups, ("light_line",))
     out.field_data["light_origin"] = origin
     out.field_data["light_across"] = w
@@ -638,7 +593,7 @@ def isophotes(surface, light=(0.0, 0.0, 1.0), count=9, *, resolution=None):
     values = _normals(mesh) @ L
     alpha, levels = _refl.isophote_levels(count)
     # |N.L - c| <= 1e-12 is rounding noise: such vertices count as on the level (see level_lines)
-    join = _join_tol(mesh)
-    groups = [((j, np.degrees(a), c), _joined(level_lines(X, T, values, c, tol=ISOPHOTE_TOL), join))
+    join = _models.join_tol(mesh)
+    groups = [((j, np.degrees(a), c), _models.joined(level_lines(X, T, values, c, tol=ISOPHOTE_TOL), join))
               for j, (a, c) in enumerate(zip(alpha, levels))]
     return _lines_mesh(groups, ("level", "angle", "value"))

@@ -9,46 +9,20 @@ path then ends on the face's trimming loop as the lab stores it (a polyline in (
 :class:`lab.trimming.TrimmedSurface`), with ``end == "trim"`` and ``hit_boundary`` set.  A loop crossed and
 re-crossed between two samples (a sliver narrower than the sampling step) is missed.
 
-Everything goes through :func:`face_surface`, the one place that says which surface a face is evaluated on.
+Everything goes through :func:`lab.interrogation.faces.face_surface`, the one place that says which surface a
+face is evaluated on.
 """
 
 import numpy as np
 
-__all__ = ["TRIM_SAMPLES", "as_surface", "face_surface", "is_face", "trim_ends"]
+from ..faces import as_surface, check_inside, face_surface, is_face
+
+__all__ = ["TRIM_SAMPLES", "as_surface", "check_inside", "face_surface", "is_face", "trim_ends"]
 
 #: Samples per path (at least) at which a path is tested against the face's trimmed region before bisection.
 TRIM_SAMPLES = 1024
 #: Bisection stops when the bracket is this small relative to the path's length.
 _BISECT_RTOL = 1e-13
-
-
-def is_face(obj):
-    """Whether ``obj`` is a face of a model (a surface with trimming loops and an orientation), not a surface."""
-    return hasattr(obj, "surface") and hasattr(obj, "trim") and hasattr(obj, "reversed") and not hasattr(
-        obj, "derivatives")
-
-
-def face_surface(face):
-    """The surface a face's (u, v) refer to: a view in the file's parameters where the face has one, else
-    ``face.surface`` (a :class:`lab.BSplineSurface` or :class:`lab.BezierSurface`)."""
-    return getattr(face, "view", None) or face.surface
-
-
-def as_surface(obj):
-    """``(surface, trim)`` for a surface (``trim`` None) or a face (its surface and its trimmed region or None)."""
-    if is_face(obj):
-        return face_surface(obj), obj.trim
-    return obj, None
-
-
-def check_start(trim, uv, name="start point"):
-    """Refuse a start point outside the face's trimmed region (a ValueError naming it)."""
-    if trim is None:
-        return
-    u, v = (float(x) for x in uv)
-    if not bool(trim.contains(u, v)):
-        raise ValueError(f"{name} (u, v) = ({u:g}, {v:g}) lies outside the face's trimmed region; choose a point "
-                         "inside its outer loop and outside its holes (face.trim.contains(u, v))")
 
 
 def trim_ends(states, ends, stops, trim, wrap, *, n_check=TRIM_SAMPLES, stop_code):

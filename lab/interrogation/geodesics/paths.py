@@ -54,7 +54,7 @@ from ...geometry import validation as _v
 from ...geometry.curvature import DegeneratePointWarning, unit_normal
 from ...i18n import _, decimal, language
 from ...model.surface import Surface
-from .faces import TRIM_SAMPLES, as_surface, check_start, trim_ends
+from .faces import TRIM_SAMPLES, as_surface, check_inside, trim_ends
 from .integrator import _integrate_fan, _solve_one
 from .problem import (
     _BOUNDARY,
@@ -299,7 +299,7 @@ def _single(surface, uv, angle, length, kind, rtol, atol, method, n_samples):
     surface, trim = as_surface(surface)
     problem, origin, L, rtol, atol, n_samples, y0, D, cell0 = _prepare(
         surface, uv, alpha[None], length, kind, rtol, atol, n_samples)
-    check_start(trim, origin)
+    check_inside(trim, origin)
     state, end, stop = _solve_one(problem, y0[0], cell0[0], L, None if D is None else D[0], rtol, atol, method)
     ends, stops = [end], [stop]
     if trim is not None:
@@ -403,7 +403,7 @@ def _fan(surface, uv, n_angles, length, kind, rtol, atol, n_samples, vectorized,
     surface, trim = as_surface(surface)
     problem, origin, L, rtol, atol, n_samples, y0, D, cell0 = _prepare(
         surface, uv, angles, length, kind, rtol, atol, n_samples)
-    check_start(trim, origin)
+    check_inside(trim, origin)
     if vectorized:
         states, ends, stops = _integrate_fan(problem, y0, cell0, L, D, rtol, atol)
     else:
