@@ -213,3 +213,34 @@ def test_focal_surface_of_a_model_per_face(drilled):
     np.testing.assert_allclose(np.hypot(F[hole, 1], F[hole, 2] - ZHOLE), abs(RHOLE - a / (2 * RHOLE)), atol=1e-9)
     flat = ~(wall | hole)
     np.testing.assert_allclose(F[flat], focal.point_data["X"][flat], atol=1e-12)
+
+
+# ----------------------------------------------------------------------------- the probe and the combs on a face
+
+
+def test_probe_and_combs_on_a_face(drilled):
+    """The probe on a face uses the face's normal (flipped on a reversed face); the combs run along the face's loops:
+    on the wall's rims (z = 0 and z = 6, circles of radius R) every tooth has length scale / R."""
+    face = _wall(drilled)
+    u, v = np.pi / 2, 1.0
+    p = lab.probe(face, u, v)
+    c = face.curvature(u, v)
+    np.testing.assert_allclose([p.K, p.H, p.k1, p.k2], [c.K, c.H, c.k1, c.k2], atol=1e-12)
+    np.testing.assert_allclose(p.normal, face.normal(u, v), atol=1e-12)
+    np.testing.assert_allclose(np.cross(p.d1, p.d2), p.normal, atol=1e-12)  # right-handed with the face's normal
+    assert abs(p.H) == pytest.approx(1 / (2 * R), rel=1e-9)
+    radial = p.point / np.linalg.norm(p.point[:2]) * [1, 1, 0]
+    assert np.dot(p.normal, radial) == pytest.approx(-1.0 if face.reversed else 1.0)
+    with pytest.raises(ValueError, match="the probe's point .* lies outside the face's trimmed region"):
+        lab.probe(face, np.pi, ZHOLE)
+    scale = 0.5
+    combs = lab.border_combs(face, density=24, scale=scale, count=1)
+    assert len(combs) >= len(face.trim.loops) + 2
+    outer = combs[0]
+    z = outer.points[:, 2]
+    rim = (np.minimum(abs(z), abs(z - 6.0)) < 1e-9) & (np.abs(np.gradient(z)) < 1e-12)
+    assert rim.sum() > 20
+    teeth = np.linalg.norm(outer.tips[rim] - outer.points[rim], axis=1)
+    np.testing.assert_allclose(teeth, scale / R, rtol=1e-6)  # the polyline's tangent there is the rim's own
+    inside = np.concatenate([cb.uv for cb in combs[len(face.trim.loops):]])
+    assert np.all(face.trim.contains(inside[:, 0], inside[:, 1]))  # the iso-curves are cut to the face
