@@ -11,7 +11,8 @@ import numpy as np
 
 from ..mesh.levels import join_polylines
 
-__all__ = ["JOIN_RTOL", "as_surface", "check_inside", "face_surface", "is_face", "is_model", "join_tol", "joined"]
+__all__ = ["JOIN_RTOL", "as_surface", "check_inside", "face_surface", "fill_normals", "is_face", "is_model", "join_tol",
+           "joined"]
 
 #: Level lines of neighbouring faces of a model are joined where their ends lie closer than this times the
 #: mesh's median edge length.  Across a tangent-continuous border the ends differ only by the two faces'
@@ -76,3 +77,27 @@ def join_tol(mesh):
 def joined(lines, tol):
     """Level lines joined across face borders within ``tol`` (:func:`join_tol`), or as they are (``tol`` None)."""
     return lines if tol is None or len(lines) < 2 else join_polylines(lines, tol)
+
+
+def fill_normals(mesh):
+    """``mesh`` with a unit normal ``N`` at every vertex of a model's mesh (changed in place, and returned).
+
+    At a collapsed patch edge (the teapot's lid top) the corner vertex of a face's grid touches only
+    triangles of zero area, so neither ``b_u x b_v`` nor the mesh gives it a normal.  It gets the mean normal of
+    the vertices of the same face at the same position (the others on the collapsed edge), which have one.
+    """
+    if "N" not in mesh.point_data:
+        return mesh
+    N = np.asarray(mesh.point_data["N"], dtype=float)
+    bad = ~np.all(np.isfinite(N), axis=1)
+    if not bad.any():
+        return mesh
+    X = np.asarray(mesh.points, dtype=float)
+    face = np.asarray(mesh.point_data["face"]) if "face" in mesh.point_data else np.zeros(len(X), int)
+    for i in np.nonzero(bad)[0]:
+        same = (face == face[i]) & np.all(X == X[i], axis=1) & ~bad
+        if same.any():
+            n = N[same].sum(axis=0)
+            N[i] = n / np.linalg.norm(n) if np.linalg.norm(n) > 0 else N[same][0]
+    mesh.point_data["N"] = N
+    return mesh

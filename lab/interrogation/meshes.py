@@ -106,7 +106,7 @@ def as_curvature_mesh(surface, resolution=None):
         return surface.to_mesh(n)
     if _models.is_model(surface):
         n = _v.as_positive_int(MODEL_RESOLUTION if resolution is None else resolution, "resolution", minimum=2)
-        return surface.to_mesh(n, n)
+        return _models.fill_normals(surface.to_mesh(n, n))
     raise TypeError(
         f"expected a lab.Surface, a lab.BezierPatches, a lab.Model or a pyvista.PolyData with curvature point data; "
         f"got {type(surface).__name__}"

@@ -11,8 +11,16 @@ import pyvista as pv
 from ... import mesh as _mesh
 from ...geometry.curvature import DegeneratePointWarning
 from ...i18n import N_, _, decimal
+from ...interrogation.faces import is_model
 from ...interrogation.geodesics import Fan, geodesic_fan, normal_section_fan, polar_isodistance
-from ...interrogation.meshes import as_curvature_mesh, focal_surface, isophotes, reflection_lines, stripe_mapping
+from ...interrogation.meshes import (
+    MODEL_RESOLUTION,
+    as_curvature_mesh,
+    focal_surface,
+    isophotes,
+    reflection_lines,
+    stripe_mapping,
+)
 from ...interrogation.reflection import VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
@@ -30,21 +38,38 @@ def _slider(cls, description, **kwargs):
     return cls(description=_(description), style=style_for(), layout=_layout(), **kwargs)
 
 
+def _curvature_mesh(source, resolution, default):
+    """The explorer's mesh with exact curvature, built once: a surface on a ``resolution``² grid (``default`` when
+    None), a model on ``resolution`` lines per face (16 when None: one vertex set per face, see lab.Model.to_mesh)."""
+    if is_model(source):
+        return as_curvature_mesh(source, MODEL_RESOLUTION if resolution is None else resolution)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DegeneratePointWarning)
+        return as_curvature_mesh(source, default if resolution is None else resolution)
+
+
 class FocalExplorer(Explorer):
-    """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (seeds/002, section 4)."""
+    """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (seeds/002, section 4).
+
+    ``surface`` may be a model (:func:`lab.read`): every face has its focal surface, with the face's normal,
+    on ``resolution`` lines per face (default 16; a surface's grid is ``resolution``², default 48).  The
+    surface's mesh with its curvature is built once; a change of the function or the scale moves its points.
+    """
 
     title = N_("focal surface explorer")
     FUNCTIONS: ClassVar[dict] = {N_("H  mean"): "mean", N_("K  Gaussian"): "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1",
                  "κ2": "k2"}
 
-    def __init__(self, surface, *, scale=None, resolution=48, window_size=(800, 500), live=None, backend=None):
+    def __init__(self, surface, *, scale=None, resolution=None, window_size=(800, 500), live=None, backend=None):
         super().__init__(window_size=window_size, live=live, backend=backend)
         self._focal = focal_surface
         self.source = surface
         self.resolution = resolution
+        self.model = surface if is_model(surface) else None
+        self._mesh = _curvature_mesh(surface, resolution, 48)
         self.function = self._control(_dropdown(list(self.FUNCTIONS.items()), "mean", N_("function")))
         if scale is None:  # the largest displacement a tenth of the model's size
-            probe = focal_surface(surface, scale=1.0, function="mean", resolution=resolution)
+            probe = focal_surface(self._mesh, scale=1.0, function="mean")
             size = float(np.linalg.norm(np.ptp(probe.point_data["X"], axis=0)))
             fmax = float(np.max(np.abs(probe.point_data["f"]))) or 1.0
             scale = float(f"{0.1 * size / fmax:.2g}")
@@ -61,7 +86,7 @@ class FocalExplorer(Explorer):
         return [self.function, self.scale, self.show_surface]
 
     def _build_scene(self):
-        base = self._focal(self.source, scale=0.0, function="mean", resolution=self.resolution)
+        base = self._focal(self._mesh, scale=0.0, function="mean")
         self.surface_mesh = base.copy()
         self.surface_actor = self.plotter.add_mesh(self.surface_mesh, color="#c8c8c8", opacity=0.45,
                                                    smooth_shading=True, **style.SURFACE_PROPERTIES)
@@ -79,8 +104,7 @@ class FocalExplorer(Explorer):
         return _legend.legend(self.function.value, "coolwarm", clim=(-lim, lim))
 
     def update_focal(self):
-        new = self._focal(self.source, scale=self.scale.value, function=self.function.value,
-                          resolution=self.resolution)
+        new = self._focal(self._mesh, scale=self.scale.value, function=self.function.value)
         self.focal_mesh.points = new.points
         self.focal_mesh.point_data["f"] = new.point_data["f"]
         f = np.asarray(new.point_data["f"])
@@ -92,17 +116,24 @@ class FocalExplorer(Explorer):
 
 
 class ReflectionExplorer(Explorer):
-    """Reflection lines, isophotes and the striped box mapping on a surface (seeds/002, section 3)."""
+    """Reflection lines, isophotes and the striped box mapping on a surface (seeds/002, section 3).
+
+    ``surface`` may be a model (:func:`lab.read`), on ``resolution`` lines per face (default 16; a surface's
+    grid is ``resolution``², default 64).  Its faces are not welded: the lines are joined across face borders
+    where their ends meet (:mod:`lab.interrogation.faces`), so they run on over tangent-continuous edges and
+    break at kinks, as the "edges by continuity" overlay shows them.
+    """
 
     title = N_("reflection explorer")
     camera_direction = VIEW_DIRECTION  # reflections depend on the eye: look from the one they are computed for
     KINDS: ClassVar[dict] = {N_("stripe box mapping"): "stripes", N_("reflection lines (light lines)"): "lines",
              N_("isophotes"): "isophotes"}
 
-    def __init__(self, surface, *, resolution=64, window_size=(800, 500), live=None, backend=None):
+    def __init__(self, surface, *, resolution=None, window_size=(800, 500), live=None, backend=None):
         super().__init__(window_size=window_size, live=live, backend=backend)
         self.source = surface
         self.resolution = resolution
+        self.model = surface if is_model(surface) else None
         c = self._control
         self.kind = c(_dropdown(list(self.KINDS.items()), "stripes", N_("show")))
         self.kind.add_class("lab-primary-control")
@@ -142,9 +173,7 @@ class ReflectionExplorer(Explorer):
         return np.array([np.cos(a) * np.cos(e), np.sin(a) * np.cos(e), np.sin(e)])
 
     def _build_scene(self):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", DegeneratePointWarning)
-            self.surface_mesh = as_curvature_mesh(self.source, self.resolution)
+        self.surface_mesh = _curvature_mesh(self.source, self.resolution, 64)
         self.surface_actor = self.plotter.add_mesh(self.surface_mesh, color="#e6e6e6", smooth_shading=True,
                                                    **style.SURFACE_PROPERTIES)
         self.overlay = pv.PolyData()
