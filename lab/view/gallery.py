@@ -78,7 +78,7 @@ PICTURES = [
      ("The impeller of pyiges' examples (IGES, 277 trimmed faces, each on 17 × 17 lines), seen from below, "
       "Gaussian curvature K with the signed-log map: the blades are nearly developable (K ≈ 0, green), their "
       "rounded edges and the bore elliptic or parabolic, the fillets at the blades' roots hyperbolic. The IGES "
-      "file gives no face orientation (188 of the 277 normals point into the solid), so this part is coloured "
+      "file gives no face orientation (by a ray test, 188 of its 277 faces have normals into the solid), so it is coloured "
       "by K, whose sign does not depend on the normal.")),
 ]
 
