@@ -244,3 +244,63 @@ def test_probe_and_combs_on_a_face(drilled):
     np.testing.assert_allclose(teeth, scale / R, rtol=1e-6)  # the polyline's tangent there is the rim's own
     inside = np.concatenate([cb.uv for cb in combs[len(face.trim.loops):]])
     assert np.all(face.trim.contains(inside[:, 0], inside[:, 1]))  # the iso-curves are cut to the face
+
+
+# ----------------------------------------------------------------------------- pictures of a model
+
+
+@pytest.fixture(scope="module")
+def teapot():
+    return lab.models.teapot()
+
+
+def test_picture_of_a_model_matches_stored_reference(teapot, tmp_path):
+    """The teapot classified by the sign of K with its face borders, in the lab's style, against a stored picture;
+    one legend for all faces; the borders drawn (dark grey) without the triangles' edges."""
+    import imageio.v3 as iio
+
+    from lab.view import render
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", lab.DegeneratePointWarning)
+        image = render.picture(teapot, "gaussian", "classification", window_size=(480, 360), edges=True,
+                               camera=(-100, 25), title="teapot, K")
+        plain = render.picture(teapot, "gaussian", "classification", window_size=(480, 360), camera=(-100, 25),
+                               title="teapot, K")
+        mesh, legend = render._as_mesh(teapot, "gaussian", "classification", 1, None)
+        assert mesh.n_points == teapot.to_mesh(16, 16).n_points  # 16 lines per face unless n says otherwise
+    assert [label.split()[0] for label, _c in legend.classes] == ["K", "K", "K"]  # one classification legend
+    grey = lambda im: int(np.count_nonzero(np.all(np.abs(im.astype(int) - 58) < 25, axis=-1)))
+    assert grey(image) > grey(plain) + 300  # the face borders
+    reference = TESTS / "data" / "model_teapot_gaussian_classification.png"
+    if os.environ.get("LAB_UPDATE_REFERENCES") or not reference.exists():
+        iio.imwrite(reference, image)
+    stored = iio.imread(reference)[..., :3].astype(float)
+    diff = np.abs(image.astype(float) - stored)
+    iio.imwrite(tmp_path / "picture.png", image)
+    # tolerance as test_pictures': another GL driver may shift anti-aliased edges by a pixel
+    assert diff.mean() < 3.0 and np.mean(np.any(diff > 40, axis=-1)) < 0.02, f"differs from {reference}; see {tmp_path}"
+
+
+def test_command_line_renders_a_part_from_a_file_and_a_named_one(drilled, tmp_path):
+    """`curvature-lab render --file part.step` with the options it always took, and `--model NAME`."""
+    import pyvista as pv
+
+    from lab import cli
+
+    png = tmp_path / "part.png"
+    assert cli.main(["render", "--file", drilled.path, "--curvature", "mean", "--color-map", "symmetric", "--edges",
+                     "--camera", "-60,35", "--window-size", "320x240", "--quiet", "-o", str(png)]) == 0
+    assert png.stat().st_size > 1000
+    vtp = tmp_path / "part.vtp"
+    assert cli.main(["render", "--file", drilled.path, "--depth", "0", "--quiet", "-o", str(vtp)]) == 0
+    mesh = pv.read(vtp)
+    assert set(np.unique(mesh.point_data["face"])) == {f.index for f in drilled.faces}
+    wall = np.asarray(mesh.point_data["face"]) == _wall(drilled).index
+    np.testing.assert_allclose(np.abs(mesh.point_data["H"][wall]), 1 / (2 * R), rtol=1e-9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert cli.main(["render", "--model", "teapot", "--depth", "0", "--quiet", "-o", str(vtp)]) == 0
+    assert np.all(np.isfinite(pv.read(vtp).point_data["N"]))  # the collapsed edges' corners got a normal
+    with pytest.raises(SystemExit):
+        cli.main(["render", "--model", "teapot", "--file", drilled.path, "--quiet", "-o", str(png)])
