@@ -304,3 +304,23 @@ def test_command_line_renders_a_part_from_a_file_and_a_named_one(drilled, tmp_pa
     assert np.all(np.isfinite(pv.read(vtp).point_data["N"]))  # the collapsed edges' corners got a normal
     with pytest.raises(SystemExit):
         cli.main(["render", "--model", "teapot", "--file", drilled.path, "--quiet", "-o", str(png)])
+
+
+def test_geodesic_explorer_on_a_face(drilled):
+    """A fan beside the hole: the paths that run into it stop on its border, the status says how many left the
+    face, the parameter domain shows the face's loops; a start in the hole is refused with the reason."""
+    from lab.widgets import GeodesicExplorer
+
+    face = _wall(drilled)
+    g = GeodesicExplorer(face, start=(2.3, ZHOLE), n_angles=32, step=0.4, n_curves=5, live=False)
+    cut = [p for p in g.fan if p.end == "trim"]
+    assert 0 < len(cut) < len(g.fan)
+    hole = min(face.trim.loops, key=len)
+    mid = 0.5 * (hole[1:] + hole[:-1])
+    sagitta = float(np.max(np.abs(_off_hole(face.surface.evaluate(mid[:, 0], mid[:, 1])))))
+    assert all(abs(_off_hole(p.points[-1])) <= 1.01 * sagitta for p in cut)
+    assert f"{len(cut)} of 32 paths leave the face before length 2" in g.status.value
+    assert g.domain_view.value.count("<polygon") == len(face.trim.loops)
+    g.u0.value = np.pi  # θ = 180°, z = 3: the hole's centre
+    assert "lies outside the face&#x27;s trimmed region" in g.status.value  # (HTML-escaped)
+    g.close()

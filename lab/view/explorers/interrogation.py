@@ -11,7 +11,7 @@ import pyvista as pv
 from ... import mesh as _mesh
 from ...geometry.curvature import DegeneratePointWarning
 from ...i18n import N_, _, decimal
-from ...interrogation.faces import is_model
+from ...interrogation.faces import face_surface, is_face, is_model
 from ...interrogation.geodesics import Fan, geodesic_fan, normal_section_fan, polar_isodistance
 from ...interrogation.meshes import (
     MODEL_RESOLUTION,
@@ -26,6 +26,7 @@ from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
 from .edges import EdgeOverlay
+from .models import default_point, face_mesh
 
 __all__ = ["FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"]
 
@@ -229,9 +230,11 @@ class GeodesicExplorer(Explorer):
 
     Parameters
     ----------
-    surface : lab surface
+    surface : lab surface or lab.Face
+        A surface, or a face of a model (:func:`lab.read`): the paths then stop where they leave the face's
+        trimmed region, the start sliders span the face's loops and the parameter domain shows them.
     start : (float, float), optional
-        Start point (u0, v0); default: the domain's centre.
+        Start point (u0, v0); default: the domain's centre (on a face: a point inside it).
     n_angles : int
     step : float, optional
         Isodistance step s_L; default: a fifth of the surface's size divided by ``n_curves``.
@@ -255,13 +258,19 @@ class GeodesicExplorer(Explorer):
                           "n_curves=… (the number of paths is n_angles)", DeprecationWarning, stacklevel=2)
             n_curves = count
         super().__init__(window_size=window_size, live=live, backend=backend)
-        self.source = surface
-        (u0, u1), (v0, v1) = surface.domain
-        if start is None:
-            start = (0.5 * (u0 + u1), 0.5 * (v0 + v1))
+        self.face = surface if is_face(surface) else None
+        self.source = face_surface(surface) if self.face is not None else surface
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DegeneratePointWarning)
-            self.surface_mesh = _mesh.surface_mesh(surface, 64, 64)
+            if self.face is None:
+                self.surface_mesh = _mesh.surface_mesh(surface, 64, 64)
+                (u0, u1), (v0, v1) = surface.domain
+            else:  # the face in its trimmed region; the sliders span its loops
+                self.surface_mesh = face_mesh(self.face, 32)
+                (u0, u1), (v0, v1) = self._box()
+        if start is None:
+            start = (default_point(self.surface_mesh, self.face.index) if self.face is not None
+                     else (0.5 * (u0 + u1), 0.5 * (v0 + v1)))
         size = float(np.linalg.norm(np.ptp(self.surface_mesh.points, axis=0)))
         if step is None:
             step = float(f"{size / (5 * n_curves):.2g}")
@@ -339,7 +348,8 @@ class GeodesicExplorer(Explorer):
                         else _("computing {n} normal sections of length {length:g}: {done} done …"))
                 self._show_progress(first / n, what.format(n=n, length=length, done=first))
                 await checkpoint()
-                part = fan_fn(self.source, uv0, None, length, angles=angles[first:first + self.CHUNK], n_samples=61)
+                part = fan_fn(self.face or self.source, uv0, None, length, angles=angles[first:first + self.CHUNK],
+                              n_samples=61)
                 paths += part.paths
             self.fan = Fan(paths, angles, part.origin, part.length, part.kind, part.surface, full)
             self._fan_key = key
@@ -362,8 +372,9 @@ class GeodesicExplorer(Explorer):
         reached = [d for d, pieces in zip(distances, iso) if pieces]
         short = [p for p in fan if p.length < length * (1 - 1e-9)]
         stopped = sum(1 for p in short if p.hit_boundary)
-        note = _("{stopped} of {n} paths reach the boundary before length {length:g}").format(
-            stopped=stopped, n=len(fan), length=length) if stopped else ""
+        what = (_("{stopped} of {n} paths leave the face before length {length:g}") if self.face is not None
+                else _("{stopped} of {n} paths reach the boundary before length {length:g}"))
+        note = what.format(stopped=stopped, n=len(fan), length=length) if stopped else ""
         if len(reached) < len(distances):
             note += ("; " if note else "") + _("no path reaches s_L ≥ {s:g}").format(s=distances[len(reached)])
         self.refresh()
@@ -390,9 +401,17 @@ class GeodesicExplorer(Explorer):
             out += [points + LIFT * size * N, points - LIFT * size * N]
         return out
 
+    def _box(self):
+        """The (u, v) box shown: the surface's domain, or the bounding box of a face's loops."""
+        if self.face is None or self.face.trim is None:
+            return self.source.domain
+        X = np.concatenate(self.face.trim.loops)
+        lo, hi = X.min(axis=0), X.max(axis=0)
+        return (float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1]))
+
     def _domain_svg(self, fan, iso, length):
         """The paths and curves in the parameter domain as SVG (drawn by the browser, crisp at any width)."""
-        (u0, u1), (v0, v1) = self.source.domain
+        (u0, u1), (v0, v1) = self._box()
         H_, m = 300.0, 34.0
         # one unit of u as long as one of v: a circle in the domain is drawn round (the box is square on a square domain)
         ph = H_ - 2 * m
@@ -406,6 +425,9 @@ class GeodesicExplorer(Explorer):
             return " ".join(f"{a:.1f},{b:.1f}" for a, b in zip(x, y))
 
         parts = []
+        if self.face is not None and self.face.trim is not None:  # the face's loops, outer first
+            for loop in self.face.trim.loops:
+                parts.append(f'<polygon points="{xy(loop)}" fill="none" stroke="#57606a" stroke-width="1.2"/>')
         for p in fan:
             keep = p.s <= length * (1 + 1e-9)
             parts.append(f'<polyline points="{xy(p.uv[keep])}" fill="none" stroke="#1f3b73" stroke-width="0.8"/>')

@@ -15,7 +15,7 @@ from ...interrogation.cad.mesh import face_arrays
 from ...interrogation.faces import fill_normals, is_model
 from ..render import face_borders
 
-__all__ = ["ModelMeshes", "default_point", "face_borders", "face_label", "is_model"]
+__all__ = ["ModelMeshes", "default_point", "face_borders", "face_label", "face_mesh", "is_model"]
 
 #: point data of a model's mesh, as lab.Model.to_mesh makes it
 FIELDS = ("K", "H", "k1", "k2", "degenerate", "N", "uv")
@@ -72,6 +72,11 @@ def _assemble(faces, parts):
     mesh.point_data["face"] = np.repeat(ids, counts)
     mesh.cell_data["face"] = np.repeat(ids, [len(t) for t in tris])
     return fill_normals(mesh)
+
+
+def face_mesh(face, n=32):
+    """One face of a model on ``n`` lines in its trimmed region, with the arrays of a model's mesh."""
+    return _assemble([face], [face_arrays(face, n, n)])
 
 
 def face_label(face):
