@@ -439,6 +439,7 @@ def test_curvature_explorer_on_a_model(teapot):
     assert "RGB" in mesh.point_data and e.picture_title() == "draft angle, pull +z, 16 lines per face"
     assert np.asarray(mesh.point_data["cad"]).shape == (mesh.n_points,)
     e.close()
+    assert e._model_meshes is None  # the model's meshes go with the explorer
 
 
 def test_edges_by_continuity_on_a_real_part():
