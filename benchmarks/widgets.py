@@ -13,7 +13,15 @@ does the same job the naive way, in the same run:
   time (our explorer caches meshes per depth; the first visit is measured);
 * geodesic fan: one ``solve_ivp`` call per path instead of the vectorised fan.
 
-Usage: python benchmarks/widgets.py [--repeat 5]
+With ``--models`` the rows are the explorers on a real part instead (OpenCASCADE's hammer, 45 trimmed B-spline
+faces; Newell's teapot where OpenCASCADE's sample data is missing), each face on 16 lines:
+
+* recolour: as above;
+* lines per face 16 -> 32: the model's mesh built face by face (first visit), against the cached revisit;
+* reflection lines (a new count) on the mesh built once, against building the model's mesh for every update;
+* focal surface (a new scale) on the mesh built once, against ``lab.focal_surface(model)`` for every update.
+
+Usage: python benchmarks/widgets.py [--repeat 5] [--models]
 """
 
 import argparse
@@ -25,7 +33,9 @@ from lab.widgets import CurvatureExplorer, GeodesicExplorer
 
 from lab import surfaces
 
-TARGETS = {"recolour at depth 5": 0.050, "depth change to 5": 0.300, "fan of 40 geodesics": 1.0}
+TARGETS = {"recolour at depth 5": 0.050, "depth change to 5": 0.300, "fan of 40 geodesics": 1.0,
+           "model: recolour": 0.050, "model: lines 16 -> 32": 1.0, "model: reflection lines": 0.3,
+           "model: focal scale": 0.05}
 
 
 def _render(explorer):
@@ -118,11 +128,110 @@ def measure(repeat):
     return rows
 
 
+def _part():
+    """The hammer from OpenCASCADE's sample data, or the teapot that ships with the lab."""
+    import lab
+
+    try:
+        return lab.models.hammer()
+    except FileNotFoundError:
+        return lab.models.teapot()
+
+
+def measure_models(repeat):
+    """The rows of the table for the explorers on a model (see the module docstring)."""
+    from lab.widgets import FocalExplorer, ReflectionExplorer
+
+    import lab
+
+    warnings.simplefilter("ignore")
+    rows = []
+    model = _part()
+    start = time.perf_counter()
+    e = CurvatureExplorer(model, live=False, lines=16)
+    print(f"{model.name}: {len(model.faces)} faces; curvature explorer made in {time.perf_counter() - start:.2f} s "
+          f"({e.mesh.n_points} points)")
+    e.screenshot()
+    maps = iter(["signed-log", "linear"] * (repeat + 1))
+
+    def recolour():
+        e.color_map.value = next(maps)
+        _render(e)
+        assert "error" not in e.status.value, e.status.value
+
+    ours = timed(recolour, repeat)
+
+    def rebuild():
+        e.plotter.clear_actors()
+        e.plotter.add_mesh(e.mesh.copy(), scalars="display", cmap="viridis", smooth_shading=True)
+        e.plotter.render()
+
+    rows.append(("model: recolour", ours, timed(rebuild, repeat), "rebuild the scene"))
+
+    def fresh_lines():
+        x = CurvatureExplorer(model, live=False, lines=16)
+        x.screenshot()
+        begin = time.perf_counter()
+        x.depth.value = 32
+        _render(x)
+        elapsed = time.perf_counter() - begin
+        assert "error" not in x.status.value, x.status.value
+        x.close()
+        return elapsed
+
+    ours = [fresh_lines() for _ in range(repeat)]
+    x = CurvatureExplorer(model, live=False, lines=16)
+    x.depth.value = 32
+
+    def cached():
+        x.depth.value = 16
+        _render(x)
+        x.depth.value = 32
+        _render(x)
+
+    rows.append(("model: lines 16 -> 32", ours, [t / 2 for t in timed(cached, repeat)], "(revisit, cached)"))
+
+    r = ReflectionExplorer(model, live=False)
+    r.kind.value = "lines"
+    r.screenshot()
+    counts = iter([9, 8] * (repeat + 1))
+
+    def new_count():
+        r.count.value = next(counts)
+        _render(r)
+        assert "error" not in r.status.value, r.status.value
+
+    ours = timed(new_count, repeat)
+
+    def remesh():
+        lab.reflection_lines(lab.interrogation.meshes.as_curvature_mesh(model, 16), count=9)
+
+    rows.append(("model: reflection lines", ours, timed(remesh, repeat), "mesh the model per update"))
+
+    f = FocalExplorer(model, live=False)
+    f.screenshot()
+    scales = iter([0.5, 1.0] * (repeat + 1))
+    a = f.scale.value
+
+    def new_scale():
+        f.scale.value = a * next(scales)
+        _render(f)
+
+    ours = timed(new_scale, repeat)
+
+    def focal_from_scratch():
+        lab.focal_surface(model, scale=a, resolution=16)
+
+    rows.append(("model: focal scale", ours, timed(focal_from_scratch, repeat), "lab.focal_surface(model) per update"))
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--models", action="store_true", help="the explorers on a real part instead")
     args = parser.parse_args()
-    rows = measure(args.repeat)
+    rows = measure_models(args.repeat) if args.models else measure(args.repeat)
     import os
 
     header = f"{'action':24s} {'ours median':>12s} {'ours best':>10s} {'target':>8s} {'ok':>4s} | {'baseline':>10s}  baseline is"

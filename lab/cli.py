@@ -42,29 +42,34 @@ def _render(args, parser):
     options = _map_options(args, parser)
     if args.draft is not None and args.min_radius is not None:
         parser.error("--draft and --min-radius are two colourings: give one of them")
+    if args.file and args.model:
+        parser.error("--file and --model both name a part: give one of them")
     start = time.perf_counter()
     steps = 3 + args.depth
-    label = Path(args.file).name if args.file else args.surface
+    label = _label(args)
     with tqdm(total=steps, desc=label, unit="step", disable=args.quiet, file=sys.stderr) as bar, \
             warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        bar.set_postfix_str("reading the file" if args.file else "building surface")
-        if args.file:
-            from .interrogation.cad import read
+        bar.set_postfix_str("reading the file" if args.file or args.model else "building surface")
+        if args.file or args.model:
+            from .interrogation.cad import models, read
 
             try:
-                surface = read(args.file)
+                surface = read(args.file) if args.file else getattr(models, args.model)()
             except (OSError, ValueError, ImportError) as exc:
                 parser.error(str(exc))
         else:
             surface = surfaces.REGISTRY[args.surface]()
         bar.update(1)
-        if args.file:
+        if args.file or args.model:
             patches = None
             n = 8 * 2**args.depth * args.resolution + 1
             bar.update(args.depth)
             bar.set_postfix_str(f"{len(surface.faces)} faces, each on a {n} x {n} grid")
-            mesh = surface.to_mesh(n, n, curvature_mode=args.curvature, color_map=args.color_map, **options)
+            from .interrogation.faces import fill_normals
+
+            mesh = fill_normals(surface.to_mesh(n, n, curvature_mode=args.curvature, color_map=args.color_map,
+                                                **options))
             for problem in surface.problems:
                 print(f"note: left out {problem}", file=sys.stderr)
         elif hasattr(surface, "to_bezier_patches"):
@@ -98,7 +103,7 @@ def _render(args, parser):
             _mesh.write_off(mesh, out)
         elif suffix == ".bez":
             if patches is None:
-                what = f"the part {label!r} is" if args.file else f"surface {label!r} is analytic,"
+                what = f"the part {label!r} is" if args.file or args.model else f"surface {label!r} is analytic,"
                 parser.error(f"{what} not made of Bézier patches: no .bez export")
             _mesh.write_cbez(patches, out)
         else:
@@ -130,7 +135,7 @@ def _cad_maps(args, parser, surface, mesh):
         parser.error(str(exc))
     if args.combs is not None:
         if not hasattr(surface, "derivatives"):
-            parser.error("--combs needs a surface (--surface), not a part from a file")
+            parser.error("--combs needs a surface (--surface), not a part (--file, --model)")
         try:
             found = _combs.border_combs(surface, density=args.comb_density, scale=args.comb_scale, count=args.combs)
         except ValueError as exc:
@@ -184,14 +189,28 @@ def _title(args):
     from .view.legend import MEASURES
 
     name, symbol, _unit = MEASURES[args.curvature]
-    label = Path(args.file).name if args.file else args.surface
+    label = _label(args)
+    if args.file or args.model:  # a part: each face on n lines (depth means nothing for trimmed faces)
+        resolution = _("{n} lines per face").format(n=8 * 2**args.depth * args.resolution + 1)
+    else:
+        resolution = _("depth {depth}").format(depth=args.depth)
     if getattr(args, "draft", None) is not None:
         pull = ", ".join(f"{x:g}" for x in args.draft)
-        return _("{label}: draft angle, pull ({pull}), depth {depth}").format(label=label, pull=pull, depth=args.depth)
+        return _("{label}: draft angle, pull ({pull}), {resolution}").format(label=label, pull=pull,
+                                                                              resolution=resolution)
     if getattr(args, "min_radius", None) is not None:
-        return _("{label}: radius of curvature below {r:g}, depth {depth}").format(
-            label=label, r=args.min_radius, depth=args.depth)
-    return f"{label}: {name} {symbol}, {args.color_map} map, depth {args.depth}"
+        return _("{label}: radius of curvature below {r:g}, {resolution}").format(
+            label=label, r=args.min_radius, resolution=resolution)
+    return f"{label}: {name} {symbol}, {args.color_map} map, {resolution}"
+
+
+def _label(args):
+    """What the picture shows: the file's name, the named part or the surface."""
+    return Path(args.file).name if args.file else args.model or args.surface
+
+
+#: named parts for --model (lab.models)
+MODELS = ("bottle", "hammer", "impeller", "linkrods", "shell", "teapot", "terrain", "wing")
 
 
 def _camera(text):
@@ -240,10 +259,13 @@ def build_parser():
     )
     r.add_argument("--file", metavar="PART", help=_("a part from a file instead (STEP, IGES, BREP): each face on a "
                    "(8·2^depth·resolution + 1)² grid in its trimmed region; see lab.read"))
+    r.add_argument("--model", choices=MODELS, help=_("a named part instead (lab.models: the teapot ships with the "
+                   "lab, the others come from OpenCASCADE's sample data or pyiges), meshed as --file"))
     r.add_argument("--depth", type=int, default=1, help=_("subdivision depth: 4**depth patches per patch (default: 1)"))
     r.add_argument("--resolution", type=int, default=1, help=_("quads per patch edge in the mesh (default: 1)"))
     r.add_argument("--window-size", type=_window_size, default=(1024, 768), help=_("PNG size, e.g. 1024x768"))
-    r.add_argument("--edges", action="store_true", help=_("draw the patch/mesh edges (at --resolution 1: the patch borders)"))
+    r.add_argument("--edges", action="store_true", help=_("draw the patch/mesh edges (at --resolution 1: the patch "
+                   "borders; on a part: the faces' borders)"))
     r.add_argument("--vmin", type=float, help=_("lower end of the colour range (linear, dill)"))
     r.add_argument("--vmax", type=float, help=_("upper end of the colour range (linear, dill; symmetric: -vmax … vmax)"))
     r.add_argument("--camera", type=_camera, metavar="AZIMUTH,ELEVATION",

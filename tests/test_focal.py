@@ -213,7 +213,7 @@ def test_errors(sphere_mesh):
         I.focal_surface(sphere_mesh, 1.0, 3)
     with pytest.raises(ValueError, match=r"needs curvature point data K, H, k1, k2, N; missing K, H, k1, k2, N"):
         I.focal_surface(pyvista.Sphere(), 1.0)
-    with pytest.raises(TypeError, match="expected a lab.Surface, a lab.BezierPatches or a pyvista.PolyData"):
+    with pytest.raises(TypeError, match="expected a lab.Surface, a lab.BezierPatches, a lab.Model or a pyvista.PolyData"):
         I.focal_sheets(np.zeros((3, 3)))
     with pytest.raises(ValueError, match="resolution applies to surfaces and patches only"):
         I.parabolic_lines(sphere_mesh, resolution=10)

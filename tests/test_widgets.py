@@ -380,3 +380,138 @@ def test_edge_overlay_colours_each_edge_by_what_it_achieves(tmp_path):
     assert refl.edges.report.counts()["G1"] == 1 and "G1: 1" in refl.edge_legend.value  # the knot line v = 3
     ex.close()
     refl.close()
+
+
+# ----------------------------------------------------------------------------- the explorers on a model (lab.read)
+
+
+@pytest.fixture(scope="module")
+def teapot():
+    """Newell's teapot, shipped with the lab: 32 untrimmed Bézier faces, no shared edges in its file."""
+    return lab.models.teapot()
+
+
+def test_curvature_explorer_on_a_model(teapot):
+    """Every face with its exact curvature, one colour range over all faces, lines per face instead of the depth,
+    face borders, the CAD tools on a chosen face."""
+    import warnings
+
+    from lab.view.explorers.edges import edge_lines
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", lab.DegeneratePointWarning)  # the lid's top and the bottom's centre
+        e = CurvatureExplorer(teapot, live=False)
+        ref = teapot.to_mesh(16, 16)
+    mesh = e.mesh
+    assert e.depth.description == "lines per face" and e.depth.value == 16
+    np.testing.assert_allclose(mesh.point_data["K"], ref.point_data["K"])
+    np.testing.assert_array_equal(mesh.point_data["face"], ref.point_data["face"])
+    K = np.asarray(ref.point_data["K"])
+    e.color_map.value = "linear"
+    np.testing.assert_allclose(e.lut.scalar_range, (K.min(), K.max()))  # one range over all 32 faces
+    face = np.asarray(ref.point_data["face"])
+    own = [np.ptp(K[face == i]) for i in np.unique(face)]  # ... not each face's own range (K's extremes are at the
+    assert sum(r < 0.5 * np.ptp(K) for r in own) >= 30  # spout's mouth: per face, most faces would span the map)
+    e.measure.value = "mean"
+    np.testing.assert_allclose(mesh.point_data["display"], ref.point_data["H"], rtol=1e-6)
+    assert "32 faces" in e.info.value and e.picture_title() == "H, h∘f2 linear (min/max), 16 lines per face"
+    e.depth.value = 8  # the resolution: each face on 8 lines, in place
+    assert e.mesh is mesh and mesh.n_points == teapot.to_mesh(8, 8).n_points and e.status.value.find("Error") < 0
+    e.depth.value = 16
+    assert e._model_meshes.cached(8) is not None and mesh.n_points == ref.n_points
+    e.show_borders.value = True  # each face's own border: its (u, v) on the domain's border (untrimmed faces)
+    borders = e.borders_actor.mapper.dataset
+    uv = np.asarray(borders.point_data["uv"])
+    assert borders.n_lines > 0 and np.all(np.min(np.abs(np.stack([uv, uv - 1.0])), axis=0).min(axis=1) < 1e-12)
+    e.show_edges.value = True  # the file gives no shared edges: said so
+    assert "not sewn" in e.edge_legend.value and edge_lines(e.edges.report).n_points == 0
+    t = e.tools
+    assert [v for _label, v in t.face.options] == [f.index for f in teapot.faces]
+    t.face.value = 5
+    t.probe.value = True
+    p = lab.probe(teapot.face(5), t.u.value, t.v.value)
+    assert t.last_probe.K == pytest.approx(p.K) and t.last_probe.H == pytest.approx(p.H)
+    u0, u1 = teapot.face(5).domain[0]
+    assert (t.u.min, t.u.max) == (u0, u1)
+    t.combs.value = True
+    assert t.lines_actor is not None and "Error" not in e.status.value
+    t.map.value = "draft"  # the CAD maps colour every face
+    assert "RGB" in mesh.point_data and e.picture_title() == "draft angle, pull +z, 16 lines per face"
+    assert np.asarray(mesh.point_data["cad"]).shape == (mesh.n_points,)
+    e.close()
+    assert e._model_meshes is None  # the model's meshes go with the explorer
+
+
+def test_edges_by_continuity_on_a_real_part():
+    """The hammer's 104 shared face edges, one polyline each, in the colour of what lab.continuity says it achieves."""
+    from pathlib import Path
+
+    from lab.interrogation.continuity import LEVELS
+    from lab.view.explorers.edges import EDGE_COLORS, edge_lines
+
+    if not Path("/usr/share/opencascade/data/occ/hammer.brep").exists() and not __import__("os").environ.get(
+            "LAB_OCC_DATA"):
+        pytest.skip("OpenCASCADE's sample parts (Debian occt-misc) are not installed")
+    model = lab.models.hammer()
+    e = CurvatureExplorer(model, live=False, lines=8)
+    e.show_edges.value = True
+    rep = e.edges.report
+    expected = lab.continuity(model)
+    assert len(rep.edges) == len(model.edges) == 104 and rep.counts() == expected.counts()
+    lines = edge_lines(rep)
+    edge = np.asarray(lines.cell_data["edge"])
+    assert sorted(set(edge)) == list(range(len(model.edges)))  # one polyline per shared edge
+    rgb = np.asarray(lines.cell_data["RGB"])
+    for i, found in enumerate(expected.edges):
+        want = [int(EDGE_COLORS[found.achieved][k:k + 2], 16) for k in (1, 3, 5)]
+        assert np.all(rgb[edge == i] == want) and tuple(rep.edges[i].faces) == tuple(model.edges[i].faces)
+        assert np.all(np.asarray(lines.cell_data["level"])[edge == i] == LEVELS.index(found.achieved))
+    counts = expected.counts()
+    assert all(f"{level}: {counts[level]}" in e.edge_legend.value for level in LEVELS)
+    assert e.edges.actor.GetVisibility()
+    e.close()
+
+
+def test_reflection_explorer_on_a_model_joins_lines_across_faces(teapot):
+    """Stripes on every face; light lines and isophotes joined across the teapot's tangent-continuous patch borders."""
+    import warnings
+
+    from lab.interrogation import meshes as M
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", lab.DegeneratePointWarning)
+        r = ReflectionExplorer(teapot, live=False)
+    assert "RGB" in r.overlay.cell_data and len(np.unique(r.surface_mesh.point_data["face"])) == 32
+    assert r.status.value == ""
+    r.kind.value = "lines"
+    joined = len(M.polylines(r.overlay))
+    apart = r.surface_mesh.copy()
+    del apart.point_data["face"]  # the same mesh, each face alone
+    alone = len(M.polylines(lab.reflection_lines(apart, direction=(1.0, 0.0, 0.0), count=r.count.value,
+                                                 spacing=3.0 * float(np.linalg.norm(np.ptp(apart.points, axis=0)))
+                                                 / r.count.value)))
+    assert 0 < joined < 0.75 * alone, (joined, alone)
+    r.kind.value = "isophotes"
+    assert r.overlay.n_lines > 0 and r.status.value == ""
+    r.show_edges.value = True
+    assert "not sewn" in r.edge_legend.value
+    r.close()
+
+
+def test_focal_explorer_on_a_model(teapot):
+    """Each face's focal surface F = X + a H N with the face's normal, from a mesh built once."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", lab.DegeneratePointWarning)
+        f = FocalExplorer(teapot, scale=0.01, live=False)
+    base = f._mesh
+    X = np.asarray(f.surface_mesh.points)
+    N = np.asarray(f.surface_mesh.point_data["N"], dtype=float)
+    N /= np.linalg.norm(N, axis=1, keepdims=True)
+    H = np.asarray(f.surface_mesh.point_data["H"])
+    f.scale.value = 0.02
+    np.testing.assert_allclose(np.asarray(f.focal_mesh.points), X + 0.02 * H[:, None] * N, atol=1e-9)
+    assert f._mesh is base and len(np.unique(f.focal_mesh.point_data["face"])) == 32
+    assert "mean curvature H" in f.legend_html()
+    f.close()

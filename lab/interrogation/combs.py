@@ -22,6 +22,7 @@ import numpy as np
 
 from ..geometry import validation as _v
 from ..geometry.curvature import fundamental_forms
+from .faces import as_surface
 
 __all__ = ["Comb", "border_combs", "comb", "comb_lines", "iso_comb"]
 
@@ -121,13 +122,42 @@ def iso_comb(surface, direction, value, *, density=64, scale=1.0):
 
 
 def border_combs(surface, *, density=64, scale=1.0, count=0):
-    """Combs along the four borders of the domain and ``count`` interior iso-curves in each direction."""
-    (u0, u1), (v0, v1) = surface.domain
+    """Combs along the four borders of the domain and ``count`` interior iso-curves in each direction.
+
+    On a face of a model (:class:`lab.Face`) the borders are the face's trimming loops (the polylines
+    ``face.trim.loops``, outer first), and the ``count`` iso-curves in each direction span the loops' bounding box
+    and are cut to the trimmed region (one comb per piece inside).  The teeth stand on the side of the face's
+    normal where the curve bends towards it; a reversed face flips N and κn together, so the teeth stay.
+    """
+    surface, trim = as_surface(surface)
     count = int(_v.as_number(count, "count", minimum=0))
+    if trim is not None:
+        return _face_combs(surface, trim, density, scale, count)
+    (u0, u1), (v0, v1) = surface.domain
     combs = []
     for direction, (lo, hi) in (("u", (u0, u1)), ("v", (v0, v1))):
         for value in np.linspace(lo, hi, count + 2):
             combs.append(iso_comb(surface, direction, value, density=density, scale=scale))
+    return combs
+
+
+def _face_combs(surface, trim, density, scale, count):
+    """Combs along a face's loops and along its iso-curves, cut to the trimmed region."""
+    density = int(_v.as_number(density, "density", minimum=2))
+    combs = [comb(surface, np.vstack([loop, loop[:1]]), scale=scale) for loop in trim.loops]
+    X = np.concatenate(trim.loops)
+    lo, hi = X.min(axis=0), X.max(axis=0)
+    for axis in (0, 1):  # axis 0: u fixed ("u" curves, v runs)
+        for value in np.linspace(lo[axis], hi[axis], count + 2)[1:-1]:
+            t = np.linspace(lo[1 - axis], hi[1 - axis], density)
+            uv = np.empty((len(t), 2))
+            uv[:, axis], uv[:, 1 - axis] = value, t
+            inside = np.asarray(trim.contains(uv[:, 0], uv[:, 1]))
+            runs = np.split(np.nonzero(inside)[0], np.nonzero(np.diff(np.nonzero(inside)[0]) > 1)[0] + 1)
+            tangent = np.tile([0.0, 1.0] if axis == 0 else [1.0, 0.0], (len(t), 1))
+            for run in runs:
+                if len(run) >= 2:
+                    combs.append(comb(surface, uv[run], scale=scale, tangent=tangent[run]))
     return combs
 
 

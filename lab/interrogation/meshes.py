@@ -7,8 +7,9 @@ on, as PyVista meshes.  Every function accepts
   ``resolution x resolution`` grid, default 64),
 * a :class:`lab.BezierPatches` (``patches.to_mesh(resolution)``, default 8
   quads per patch edge), or
-* a :class:`pyvista.PolyData` with point data ``K, H, k1, k2, N`` (as
-  :mod:`lab.mesh` makes them).
+* a :class:`pyvista.PolyData` with point data ``K, H, k1, k2, N`` (as :mod:`lab.mesh` makes them), or
+* a :class:`lab.Model` (``model.to_mesh(resolution, resolution)``, default 16 lines per face): level lines
+  are joined across its face borders where their ends meet (:mod:`lab.interrogation.faces`).
 
 The mathematics lives in :mod:`lab.focal` and :mod:`lab.reflection`.
 
@@ -35,27 +36,20 @@ from ..mesh.build import _faces, surface_mesh
 from ..mesh.levels import level_lines
 from ..model.patches import BezierPatches
 from ..model.surface import Surface
+from . import faces as _models
 from . import focal as _focal
 from . import reflection as _refl
 
-__all__ = [
-    "FocalSheetWarning",
-    "as_curvature_mesh",
-    "focal_sheets",
-    "focal_surface",
-    "isophotes",
-    "parabolic_lines",
-    "polylines",
-    "reflection_lines",
-    "stripe_mapping",
-]
+__all__ = ["FocalSheetWarning", "as_curvature_mesh", "focal_sheets", "focal_surface", "isophotes", "parabolic_lines",
+           "polylines", "reflection_lines", "stripe_mapping"]
 
 #: Point data a mesh must carry to be interrogated.
 REQUIRED_POINT_DATA = ("K", "H", "k1", "k2", "N")
 
-#: Default tessellation: grid of a Surface, quads per patch edge of BezierPatches.
+#: Default tessellation: grid of a Surface, quads per patch edge of BezierPatches, lines per face of a Model.
 SURFACE_RESOLUTION = 64
 PATCH_RESOLUTION = 8
+MODEL_RESOLUTION = 16
 
 #: Classical focal sheets keep radii of curvature up to this multiple of the mesh diagonal by default.
 MAX_RADIUS_FACTOR = 100.0
@@ -80,10 +74,10 @@ def as_curvature_mesh(surface, resolution=None):
 
     Parameters
     ----------
-    surface : lab.Surface, lab.BezierPatches or pyvista.PolyData
+    surface : lab.Surface, lab.BezierPatches, lab.Model or pyvista.PolyData
     resolution : int, optional
         Grid size for a Surface (default 64), quads per patch edge for
-        BezierPatches (default 8); not allowed with a mesh.
+        BezierPatches (default 8), lines per face of a Model (default 16); not allowed with a mesh.
 
     Returns
     -------
@@ -110,8 +104,11 @@ def as_curvature_mesh(surface, resolution=None):
     if isinstance(surface, BezierPatches):
         n = _v.as_positive_int(PATCH_RESOLUTION if resolution is None else resolution, "resolution", minimum=1)
         return surface.to_mesh(n)
+    if _models.is_model(surface):
+        n = _v.as_positive_int(MODEL_RESOLUTION if resolution is None else resolution, "resolution", minimum=2)
+        return _models.fill_normals(surface.to_mesh(n, n))
     raise TypeError(
-        f"expected a lab.Surface, a lab.BezierPatches or a pyvista.PolyData with curvature point data; "
+        f"expected a lab.Surface, a lab.BezierPatches, a lab.Model or a pyvista.PolyData with curvature point data; "
         f"got {type(surface).__name__}"
     )
 
@@ -375,7 +372,7 @@ def parabolic_lines(surface, *, tol=None, resolution=None):
         tol = K_ZERO_RTOL / max(_diagonal(X), 1e-300) ** 2
     else:
         tol = _v.as_number(tol, "tol", minimum=0)
-    lines = _focal.parabolic_lines(X, _triangles(mesh), mesh.point_data["K"], tol)
+    lines = _models.joined(_focal.parabolic_lines(X, _triangles(mesh), mesh.point_data["K"], tol), _models.join_tol(mesh))
     return _lines_mesh([((i,), [line]) for i, line in enumerate(lines)], ("line",))
 
 
@@ -555,9 +552,10 @@ def reflection_lines(surface, direction=(1.0, 0.0, 0.0), count=9, *, spacing=Non
     valid = P1 > 0
     T = _triangles(mesh)
     groups = []
+    join = _models.join_tol(mesh)
     for j in range(count):
         values = np.where(valid, P0 - j * P1, np.nan)
-        groups.append(((j,), level_lines(X, T, values, 0.0)))
+        groups.append(((j,), _models.joined(level_lines(X, T, values, 0.0), join)))
     out = _lines_mesh(groups, ("light_line",))
     out.field_data["light_origin"] = origin
     out.field_data["light_across"] = w
@@ -595,6 +593,7 @@ def isophotes(surface, light=(0.0, 0.0, 1.0), count=9, *, resolution=None):
     values = _normals(mesh) @ L
     alpha, levels = _refl.isophote_levels(count)
     # |N.L - c| <= 1e-12 is rounding noise: such vertices count as on the level (see level_lines)
-    groups = [((j, np.degrees(a), c), level_lines(X, T, values, c, tol=ISOPHOTE_TOL))
+    join = _models.join_tol(mesh)
+    groups = [((j, np.degrees(a), c), _models.joined(level_lines(X, T, values, c, tol=ISOPHOTE_TOL), join))
               for j, (a, c) in enumerate(zip(alpha, levels))]
     return _lines_mesh(groups, ("level", "angle", "value"))

@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..geometry import validation as _v
+from .faces import as_surface, check_inside, is_face
 
 __all__ = ["Probe", "probe", "probe_lines"]
 
@@ -73,16 +74,22 @@ def probe(surface, u, v, *, size=None):
 
     Parameters
     ----------
-    surface : lab.Surface
+    surface : lab.Surface or lab.Face
+        A surface, or a face of a model (:func:`lab.read`): then ``(u, v)`` must lie in the face's trimmed
+        region, and the curvature and normal are the face's (H, κ1, κ2 change sign on a reversed face, κ1 and κ2
+        and their directions swap).
     u, v : float
         A point of the domain.
     size : float, optional
         The indicatrix's shortest radius (default: 5 % of the surface's bounding-box diagonal).
     """
+    reverse = bool(getattr(surface, "reversed", False)) if is_face(surface) else False
+    surface, trim = as_surface(surface)
     (u0, u1), (v0, v1) = surface.domain
     u, v = _v.as_number(u, "u"), _v.as_number(v, "v")
     if not (u0 <= u <= u1 and v0 <= v <= v1):
         raise ValueError(f"(u, v) must lie in the domain [{u0:g}, {u1:g}] x [{v0:g}, {v1:g}]; got ({u:g}, {v:g})")
+    check_inside(trim, (u, v), "the probe's point")
     if size is None:
         g = np.asarray(surface.evaluate(*np.meshgrid(np.linspace(u0, u1, 9), np.linspace(v0, v1, 9))))
         size = 0.05 * float(np.linalg.norm(np.ptp(g.reshape(-1, 3), axis=0)))
@@ -104,7 +111,10 @@ def probe(surface, u, v, *, size=None):
         lines = []
     else:
         lines = _indicatrix(point, d1, d2, k1, k2, size)
-    return Probe((u, v), point, normal, float(c.K[0]), float(c.H[0]), k1, k2, d1, d2, umbilic, degenerate, lines)
+    H = float(c.H[0])
+    if reverse:  # the opposite normal: (d1, d2, N) stays right-handed with d1 and d2 swapped
+        normal, H, k1, k2, d1, d2 = -normal, -H, -k2, -k1, d2, d1
+    return Probe((u, v), point, normal, float(c.K[0]), H, k1, k2, d1, d2, umbilic, degenerate, lines)
 
 
 def probe_lines(p, *, size=None):

@@ -1,12 +1,14 @@
 """Level lines of a piecewise-linear function on a triangle mesh (marching triangles).
 
 A tool below the topics that use it: reflection lines and isophotes (:mod:`lab.interrogation.reflection`)
-and parabolic lines, K = 0 (:mod:`lab.interrogation.focal`).  Only NumPy is imported here.
+and parabolic lines, K = 0 (:mod:`lab.interrogation.focal`).  Only NumPy is imported here (and SciPy's k-d tree for joining lines).
 """
+
+import itertools
 
 import numpy as np
 
-__all__ = ["level_lines"]
+__all__ = ["join_polylines", "level_lines"]
 
 
 def _edge_lookup(T):
@@ -138,3 +140,79 @@ def level_lines(points, triangles, values, level=0.0, tol=0.0):
     pts = np.concatenate([p1, p2])[first]
     seg = np.stack([inv[: len(key1)], inv[len(key1):]], axis=1)
     return [pts[c] for c in _chain(seg, len(ukeys))]
+
+
+def join_polylines(lines, tol):
+    """Join open polylines whose ends lie within ``tol`` of each other (level lines of a mesh that is not welded).
+
+    A model's mesh has one vertex set per face (:meth:`lab.Model.to_mesh`): the level lines of each face end on
+    its border, and where the function is continuous across the border the line of the neighbouring face starts
+    within a small gap (the two faces sample their common edge at different points).  Each end is joined to its
+    nearest partner within ``tol`` (nearest pairs first, each end at most once), the two end points replaced by
+    their midpoint.  Where the function jumps (a kink, G0) the ends lie apart and the lines stay broken.
+
+    Parameters
+    ----------
+    lines : list of (n, 3) array_like
+        Polylines; a closed one repeats its first point and is left as it is.
+    tol : float
+        Largest distance between two ends that are joined.
+
+    Returns
+    -------
+    list of (n, 3) ndarray
+        The joined polylines; a chain that closes repeats its first point at the end.
+    """
+    from scipy.spatial import cKDTree
+
+    lines = [np.asarray(line, dtype=float) for line in lines if len(line)]
+    closed = [line for line in lines if len(line) > 2 and np.array_equal(line[0], line[-1])]
+    open_ = [line for line in lines if not (len(line) > 2 and np.array_equal(line[0], line[-1]))]
+    if len(open_) == 0 or not tol > 0:
+        return closed + open_
+    ends = np.array([p for line in open_ for p in (line[0], line[-1])])  # end e of line e // 2 (0: start, 1: stop)
+    pairs = cKDTree(ends).query_pairs(tol, output_type="ndarray")
+    partner = np.full(len(ends), -1)
+    if len(pairs):
+        d = np.linalg.norm(ends[pairs[:, 0]] - ends[pairs[:, 1]], axis=1)
+        for (a, b) in pairs[np.argsort(d, kind="stable")]:
+            same_line = a // 2 == b // 2
+            if partner[a] < 0 and partner[b] < 0 and not (same_line and len(open_[a // 2]) < 3):
+                partner[a], partner[b] = b, a
+    used = np.zeros(len(open_), dtype=bool)
+    out = list(closed)
+
+    def walk(end):
+        """The chain that starts at ``end`` (an end without a partner, or any end of a cycle)."""
+        pieces, e = [], end
+        while True:
+            k = e // 2
+            if used[k]:
+                return pieces, True
+            used[k] = True
+            line = open_[k] if e % 2 == 0 else open_[k][::-1]
+            pieces.append(line)
+            other = e ^ 1  # the line's other end
+            if partner[other] < 0:
+                return pieces, False
+            e = partner[other]
+
+    def merge(pieces, cycle):
+        points = [pieces[0]]
+        for a, b in itertools.pairwise(pieces):
+            mid = 0.5 * (a[-1] + b[0])
+            points[-1] = np.vstack([points[-1][:-1], mid[None]])
+            points.append(b[1:])
+        line = np.vstack(points)
+        if cycle:
+            mid = 0.5 * (line[-1] + line[0])
+            line[0] = line[-1] = mid
+        return line
+
+    for e in range(len(ends)):  # chains with a free end first, from that end
+        if partner[e] < 0 and not used[e // 2]:
+            out.append(merge(*walk(e)))
+    for e in range(len(ends)):  # what is left are cycles
+        if not used[e // 2]:
+            out.append(merge(*walk(e)))
+    return out

@@ -54,6 +54,32 @@ PICTURES = [
      "--surface monkey-saddle --curvature gaussian --color-map symmetric --depth 3",
      ("Monkey saddle: K < 0 everywhere except at the flat point in the middle (green), most negative on a ring "
       "around it.")),
+    ("gallery/teapot_gaussian_classification.png",
+     "--model teapot --curvature gaussian --color-map classification --depth 2 --camera -100,25",
+     ("Newell's teapot (32 bicubic Bézier faces, each on 33 × 33 lines, one colour range over all) classified by "
+      "the sign of K: the body, the lid and the knob are elliptic (red) like a sphere; hyperbolic (blue) are the "
+      "saddles: the inner side of the handle, the spout's underside and its mouth, the knob's neck and the "
+      "lid's dip around it, the bands where the lid meets its rim, where the rim meets the body and where the "
+      "body curls under into the bottom. The lid's top and "
+      "the bottom's centre are collapsed patch edges (degenerate points, b_u × b_v = 0): their colour is the "
+      "limit from inside the faces, elliptic. K's sign does not depend on the normal (the file's patches face "
+      "inwards).")),
+    ("gallery/hammer_mean_signed_log.png",
+     "--model hammer --curvature mean --color-map signed-log --depth 2",
+     ("A real CAD part: OpenCASCADE's hammer (BREP, 45 trimmed B-spline faces, each on 33 × 33 lines), mean "
+      "curvature H with the signed-log map. H's sign follows each face's normal, which the file orients out of "
+      "the solid (9 faces are stored reversed; lab.read flips them): where the part is convex it bends away "
+      "from the outside and H < 0, as on a sphere with its outward normal (blue: the rounded rims of the head "
+      "and the handle, the handle itself, H ≈ −1/(2r)); where it is concave H > 0 (yellow: the hollowed flanks "
+      "of the neck between head and face, curved one way only, K = 0, H = κ1/2). The flat faces have H = 0 "
+      "(green).")),
+    ("gallery/impeller_gaussian_signed_log.png",
+     "--model impeller --curvature gaussian --color-map signed-log --depth 1 --camera 30,-50",
+     ("The impeller of pyiges' examples (IGES, 277 trimmed faces, each on 17 × 17 lines), seen from below, "
+      "Gaussian curvature K with the signed-log map: the blades are nearly developable (K ≈ 0, green), their "
+      "rounded edges and the bore elliptic or parabolic, the fillets at the blades' roots hyperbolic. The IGES "
+      "file gives no face orientation (by a ray test, 188 of its 277 faces have normals into the solid), so it is coloured "
+      "by K, whose sign does not depend on the normal.")),
 ]
 
 

@@ -15,6 +15,7 @@ import numpy as np
 import pyvista as pv
 
 from ..geometry import validation as _v
+from ..interrogation.faces import is_model
 from ..interrogation.reflection import VIEW_DIRECTION
 from ..model.patches import BezierPatches
 from . import style
@@ -25,6 +26,7 @@ __all__ = [
     "VIEW_DIRECTION",
     "configure_offscreen",
     "export_html",
+    "face_borders",
     "picture",
     "plot_mesh",
     "save",
@@ -70,8 +72,12 @@ def set_camera(plotter, mesh, direction=None, zoom=1.0):
         plotter.camera.zoom(zoom)
 
 
+#: Lines per direction of a surface's grid, and per face of a model, unless a picture's ``n`` says otherwise.
+SURFACE_LINES, MODEL_LINES = 64, 16
+
+
 def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
-    """A curvature mesh for patches, a surface or a mesh, and the legend its colours have (or None)."""
+    """A curvature mesh for patches, a surface, a model or a mesh, and the legend its colours have (or None)."""
     from .. import mesh as _mesh
     from ..geometry.curvature import CurvatureMode, zero_tolerance
     options = dict(map_options or {})
@@ -88,9 +94,16 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
             BezierPatches.visualize_curvature(obj, curvature, color_map, **options)
         mesh = _mesh.patches_mesh(obj, resolution=resolution)
     elif hasattr(obj, "derivatives") and hasattr(obj, "domain"):
-        mesh = _mesh.surface_mesh(obj, n, n, curvature, color_map, **options)
+        mesh = _mesh.surface_mesh(obj, n or SURFACE_LINES, n or SURFACE_LINES, curvature, color_map, **options)
+    elif is_model(obj):  # a part from lab.read: every face on n lines, one colour range over all faces
+        if not obj.faces:
+            raise ValueError(f"the model has no faces to show; problems: {[str(p) for p in obj.problems]}")
+        lines = n or MODEL_LINES
+        mesh = (obj.to_mesh(lines, lines, curvature_mode=curvature, color_map=color_map, **options) if coloured
+                else obj.to_mesh(lines, lines))
     else:
-        raise TypeError(f"show expects BezierPatches, a lab surface, a pyvista.PolyData or a geomview file; got {type(obj).__name__}")
+        raise TypeError(f"show expects BezierPatches, a lab surface, a lab.Model, a pyvista.PolyData or a geomview "
+                        f"file; got {type(obj).__name__}")
     legend = stored_legend(obj) if isinstance(obj, BezierPatches) and not coloured else None
     if coloured and "values" in mesh.point_data:
         mode = CurvatureMode(curvature).value
@@ -160,6 +173,15 @@ def _net_lines(obj):
     return pv.merge(lines), P.reshape(-1, 3)
 
 
+def face_borders(mesh):
+    """The border of every face of a model's mesh (:meth:`lab.Model.to_mesh`) as lines: its faces are not welded
+    to each other, so each face's own border; an empty PolyData for a mesh without point data ``face``."""
+    if mesh.n_cells == 0 or "face" not in mesh.point_data:
+        return pv.PolyData()
+    return mesh.extract_feature_edges(boundary_edges=True, feature_edges=False, manifold_edges=False,
+                                      non_manifold_edges=False)
+
+
 def _add_flat(plotter, mesh, edges):
     """Dill's drawing (``seeds/000``): one colour per polygon (cell ``RGB``, :func:`lab.mesh.color_cells`), one light
     at the eye (ambient plus Lambert)."""
@@ -183,11 +205,12 @@ def _window(size, name="window_size"):
 
 
 def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None, camera=None, background="white",
-                shading="smooth"):
+                shading="smooth", borders=None):
     """The bare 3D view of ``mesh`` in the lab's style (no frame), ``size`` = (width, height); RGB array.
 
     ``shading="flat"`` draws ``mesh`` (with cell colours) as Dill did: flat polygons lit by one light at the eye.
-    ``lines`` (polylines, e.g. reflection lines) are drawn in black over the surface.
+    ``lines`` (polylines, e.g. reflection lines) are drawn in black over the surface, ``borders`` (a model's
+    face borders) in dark grey.
     """
     size = _window(size, "size")
     configure_offscreen()
@@ -205,6 +228,9 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
             net_lines, net_points = net
             plotter.add_mesh(net_lines, color="black", line_width=1)
             plotter.add_points(net_points, color="black", point_size=5, render_points_as_spheres=True)
+        if borders is not None and borders.n_points:
+            style.offset_lines(plotter.add_mesh(borders, color="#3a3a3a", line_width=1.2, scalars=None,
+                                                lighting=False))
         if lines is not None and lines.n_points:
             style.add_lines_on_surface(plotter, lines)
         if shading != "flat":
@@ -218,15 +244,18 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
 
 
 def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edges=False, net=False, title=None,
-            resolution=1, n=64, direction=None, camera=None, map_options=None, legend=True, shading="smooth",
+            resolution=1, n=None, direction=None, camera=None, map_options=None, legend=True, shading="smooth",
             lines=None):
-    """A picture of patches, a surface or a mesh in the lab's style, as an RGB array (height, width, 3).
+    """A picture of patches, a surface, a model or a mesh in the lab's style, as an RGB array (height, width, 3).
 
     Parameters
     ----------
-    obj : BezierPatches, lab surface, pyvista.PolyData or path
+    obj : BezierPatches, lab surface, lab.Model, pyvista.PolyData or path
         Patches are shown with the colours their ``visualize_curvature`` stored
-        (or, with ``curvature`` and ``color_map``, coloured by the library).  A path is a file written for
+        (or, with ``curvature`` and ``color_map``, coloured by the library).  A model (a part from
+        :func:`lab.read`) is drawn face by face (:meth:`lab.Model.to_mesh`) with one colour range and one
+        legend over all faces; the sign of H follows each face's normal (outward on a closed solid from a
+        STEP, IGES or BREP file).  A path is a file written for
         geomview (``write_cbez``, ``write_off``), read back with its colours (:func:`lab.mesh.read_geomview`).
     curvature, color_map : str, optional
         Colour by this curvature and map; the picture then has a colour bar
@@ -234,12 +263,15 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
     window_size : (int, int)
         Size of the whole picture in pixels.
     edges : bool
-        Draw mesh edges (for patches at resolution 1: the patch borders).
+        Draw mesh edges (for patches at resolution 1: the patch borders); on a model, or a model's mesh (point
+        data ``face``), the faces' borders instead.
     net : bool
         Draw the control nets of patches.
     lines : pyvista.PolyData, optional
         Polylines drawn in black over the surface, e.g. :func:`lab.reflection_lines` or :func:`lab.isophotes`.
     title : str, optional
+    n : int, optional
+        Lines per direction of a surface's grid (default 64) or per face of a model (default 16).
     camera : (float, float), optional
         Azimuth and elevation in degrees (azimuth around z from +x, elevation
         above the xy-plane); default: the automatic oblique view (see :mod:`lab.view.style`).
@@ -284,8 +316,11 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         chosen = None
     frame = style.layout(_window(window_size), title, chosen)
     net_data = _net_lines(obj) if net and hasattr(obj, "control_points") else None
+    borders = face_borders(mesh) if edges else None
+    if borders is not None and borders.n_points:
+        edges = False  # a model's triangles mean nothing: its faces' borders instead
     view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, lines=lines, direction=direction,
-                       camera=camera, shading=shading)
+                       camera=camera, shading=shading, borders=borders)
     return style.compose(view, frame, title=title, legend=chosen)
 
 

@@ -45,15 +45,26 @@ DEFAULT_VIEW = (-60.0, 35.0)
 PREFERRED_ELEVATION = 50.0
 
 
+#: Depth offset (VTK's coincident-topology units) of lines drawn on a surface.  Without one most of a line hides
+#: in the surface's depth buffer; too much of one draws lines from behind a closed part through it (-66000, the
+#: old value, showed the teapot's far side through its body).  Measured on the hood's 12 reflection lines (dark
+#: pixels: 650 without, 4279 from -500 to -66000) and the teapot's 16 (no lines from behind down to -1500).
+LINE_OFFSET_UNITS = -1000
+
+
+def offset_lines(actor):
+    """Draw a line actor in front of the surface it lies on (:data:`LINE_OFFSET_UNITS`)."""
+    actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
+    actor.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(0, LINE_OFFSET_UNITS)
+    return actor
+
+
 def add_lines_on_surface(plotter, lines, **options):
     """Add polylines lying on a surface (reflection lines, isophotes) in black, drawn in front of it.
 
     Without a depth offset most of each line would hide in the surface's depth buffer.  Returns the actor.
     """
-    actor = plotter.add_mesh(lines, color="black", line_width=2.5, scalars=None, **options)
-    actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
-    actor.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(0, -66000)
-    return actor
+    return offset_lines(plotter.add_mesh(lines, color="black", line_width=2.5, scalars=None, **options))
 
 
 def apply_lights(plotter):

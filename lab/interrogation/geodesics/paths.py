@@ -54,11 +54,13 @@ from ...geometry import validation as _v
 from ...geometry.curvature import DegeneratePointWarning, unit_normal
 from ...i18n import _, decimal, language
 from ...model.surface import Surface
+from .faces import TRIM_SAMPLES, as_surface, check_inside, trim_ends
 from .integrator import _integrate_fan, _solve_one
 from .problem import (
     _BOUNDARY,
     _DEGENERATE,
     _ENDS,
+    _TRIM,
     ATOL,
     GEODESIC,
     NORMAL_SECTION,
@@ -98,9 +100,10 @@ class Path:
     duv : (k, 2) ndarray
         Unit-speed tangent in the domain, ``(du/ds, dv/ds)``.
     hit_boundary : bool
-        The path stopped where it left the domain, before the requested length.
+        The path stopped where it left the domain (or a face's trimmed region), before the requested length.
     end : str
-        Why it ended: ``"length"`` (reached it), ``"boundary"`` or
+        Why it ended: ``"length"`` (reached it), ``"boundary"`` (the surface's domain), ``"trim"`` (a face's
+        trimming loop, for paths on a :class:`lab.Face`: see :mod:`lab.interrogation.geodesics.faces`) or
         ``"degenerate"`` (ran into a degenerate point such as a sphere's pole,
         where eqs. 7 and 11 are singular: it stops where
         ``|b_u x b_v| / (E + G)`` falls to 1e-6, and a
@@ -154,7 +157,7 @@ class Path:
         return uv.reshape(s.shape + (2,)), points.reshape(s.shape + (3,))
 
     def __repr__(self):
-        end = {"length": _("full length"), "boundary": _("hit the boundary"),
+        end = {"length": _("full length"), "boundary": _("hit the boundary"), "trim": _("left the face"),
                "degenerate": _("stopped at a degenerate point")}
         kinds = {"geodesic": _("geodesic"), "normal-section": _("normal section"),
                  "line of curvature (k1)": _("line of curvature (k1)"), "line of curvature (k2)": _("line of curvature (k2)")}
@@ -284,7 +287,7 @@ def _make_paths(problem, states, ends, stops, angles, origin, D, n_samples):
     paths = []
     for k, (state, si) in enumerate(zip(states, s)):
         sl = slice(k * n_samples, (k + 1) * n_samples)
-        paths.append(Path(si, uv[sl], points[sl], duv[sl], bool(stops[k] == _BOUNDARY), _ENDS[int(stops[k])],
+        paths.append(Path(si, uv[sl], points[sl], duv[sl], bool(stops[k] in (_BOUNDARY, _TRIM)), _ENDS[int(stops[k])],
                           float(angles[k]), problem.kind, origin, problem.surface, state, problem.wrap))
     return paths
 
@@ -293,10 +296,16 @@ def _single(surface, uv, angle, length, kind, rtol, atol, method, n_samples):
     alpha = _as_angles(angle)
     if alpha.ndim != 0:
         raise ValueError(f"angle must be a single number; got shape {alpha.shape} (use the *_fan functions for many)")
+    surface, trim = as_surface(surface)
     problem, origin, L, rtol, atol, n_samples, y0, D, cell0 = _prepare(
         surface, uv, alpha[None], length, kind, rtol, atol, n_samples)
+    check_inside(trim, origin)
     state, end, stop = _solve_one(problem, y0[0], cell0[0], L, None if D is None else D[0], rtol, atol, method)
-    return _make_paths(problem, [state], [end], [stop], alpha[None], origin, D, n_samples)[0]
+    ends, stops = [end], [stop]
+    if trim is not None:
+        ends, stops = trim_ends([state], ends, stops, trim, problem.wrap, n_check=max(8 * n_samples, TRIM_SAMPLES),
+                                stop_code=_TRIM)
+    return _make_paths(problem, [state], ends, stops, alpha[None], origin, D, n_samples)[0]
 
 
 def geodesic(surface, uv, angle, length, *, rtol=RTOL, atol=ATOL, method="DOP853", n_samples=201):
@@ -314,9 +323,12 @@ def geodesic(surface, uv, angle, length, *, rtol=RTOL, atol=ATOL, method="DOP853
 
     Parameters
     ----------
-    surface : Surface
+    surface : Surface or lab.Face
+        A surface, or a face of a model (:func:`lab.read`): the path runs on the face's surface in its (u, v)
+        and stops where it leaves the face's trimmed region (``end == "trim"``; see
+        :mod:`lab.interrogation.geodesics.faces`).
     uv : (float, float)
-        Start point ``(u0, v0)`` in the domain; not a degenerate point.
+        Start point ``(u0, v0)`` in the domain (on a face: inside its trimmed region); not a degenerate point.
     angle : float
         α of eq. 10, from ``x_v`` towards ``x_v^perp = -G x_u + F x_v`` (radians).
     length : float
@@ -388,8 +400,10 @@ def _fan_angles(n_angles, angles, n_samples, kind):
 def _fan(surface, uv, n_angles, length, kind, rtol, atol, n_samples, vectorized, angles=None):
     angles, full_circle = _fan_angles(n_angles, angles, n_samples, kind)
     n_angles = len(angles)
+    surface, trim = as_surface(surface)
     problem, origin, L, rtol, atol, n_samples, y0, D, cell0 = _prepare(
         surface, uv, angles, length, kind, rtol, atol, n_samples)
+    check_inside(trim, origin)
     if vectorized:
         states, ends, stops = _integrate_fan(problem, y0, cell0, L, D, rtol, atol)
     else:
@@ -399,6 +413,9 @@ def _fan(surface, uv, n_angles, length, kind, rtol, atol, n_samples, vectorized,
             states.append(state)
             ends.append(end)
             stops.append(stop)
+    if trim is not None:
+        ends, stops = trim_ends(states, ends, stops, trim, problem.wrap, n_check=max(8 * n_samples, TRIM_SAMPLES),
+                                stop_code=_TRIM)
     paths = _make_paths(problem, states, ends, stops, angles, origin, D, n_samples)
     return Fan(paths, angles, origin, L, kind, problem.surface, full_circle)
 

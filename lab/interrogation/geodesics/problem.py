@@ -34,9 +34,9 @@ _CROSS_MARGIN = 1e-12
 #: A path stops where |b_u x b_v| / (E + G) falls below this (just before a degenerate point).
 _DEGENERATE_STOP = 1e-6
 _EPS = np.finfo(float).eps
-#: Why a path ended (besides reaching its length).
-_BOUNDARY, _DEGENERATE = 1, 2
-_ENDS = {0: "length", _BOUNDARY: "boundary", _DEGENERATE: "degenerate"}
+#: Why a path ended (besides reaching its length); ``_TRIM``: it left a face's trimmed region (:mod:`.faces`).
+_BOUNDARY, _DEGENERATE, _TRIM = 1, 2, 3
+_ENDS = {0: "length", _BOUNDARY: "boundary", _DEGENERATE: "degenerate", _TRIM: "trim"}
 
 
 # --------------------------------------------------------------------------- differential geometry

@@ -1,6 +1,7 @@
 """The explorers: ipywidgets controls beside a live PyVista (trame) view, one call in a notebook each.
 
-``base`` (threads, view, lifecycle) → ``curvature``, ``interrogation`` (focal, reflection, geodesic).
+``base`` (threads, view, lifecycle) → ``curvature``, ``interrogation`` (focal, reflection, geodesic); ``models``
+(a model's meshes by lines per face), ``edges`` and ``tools`` beside them.
 May import ipywidgets, pyvista, trame and every layer below lab.view.
 """
 

@@ -524,7 +524,8 @@ class Explorer:
         """Let the meshes and arrays go even while something (IPython's ``Out``, a variable) keeps the explorer."""
         for name, value in list(vars(self).items()):
             if isinstance(value, (pv.DataObject, np.ndarray)) or (
-                    isinstance(value, dict) and any(isinstance(v, pv.DataObject) for v in value.values())) or name in ("fan", "isodistance", "_current_patches", "_base", "source", "actor", "lut", "plotter"):
+                    isinstance(value, dict) and any(isinstance(v, pv.DataObject) for v in value.values())) or name in ("fan", "isodistance", "_current_patches", "_base", "source", "actor", "lut", "plotter",
+                                                                              "_model_meshes"):
                 setattr(self, name, None)
 
     @property

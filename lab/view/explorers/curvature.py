@@ -15,6 +15,7 @@ from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, checkpoint, style_for
 from .edges import EdgeOverlay
+from .models import ModelMeshes, face_borders, is_model
 from .tools import CurvatureTools
 
 __all__ = ["CurvatureExplorer"]
@@ -68,9 +69,14 @@ class CurvatureExplorer(Explorer):
 
     Parameters
     ----------
-    surface : lab surface with ``to_bezier_patches()``, or BezierPatches
+    surface : lab surface with ``to_bezier_patches()``, BezierPatches, or lab.Model
         What to show.  The patches are refined ``depth`` times (the practical's
-        ``refine``) and coloured at their corners.
+        ``refine``) and coloured at their corners.  A model (a part from
+        :func:`lab.read`) is shown face by face, each face on ``lines``
+        iso-parameter lines in its trimmed region, with one colour range over
+        all faces; its resolution control is "lines per face" instead of the
+        depth, the borders are the faces' borders, and the combs and the
+        point probe work on the face chosen in their "face" menu.
     patches_class : subclass of lab.BezierPatches, optional
         A class with the student's own ``visualize_curvature``: the explorer
         then shows the colours that method stores, for the practical's four
@@ -78,15 +84,23 @@ class CurvatureExplorer(Explorer):
     depth : int
         Initial subdivision depth.
     max_depth : int
+    lines : int
+        A model's initial lines per face (4 … 64).
     window_size, live, backend
         As :class:`lab.view.explorers.base.Explorer`.
     """
 
     title = N_("curvature explorer")
 
-    def __init__(self, surface, patches_class=None, *, depth=2, max_depth=6, window_size=(800, 500), live=None,
-                 backend=None):
-        if isinstance(surface, BezierPatches):
+    def __init__(self, surface, patches_class=None, *, depth=2, max_depth=6, lines=16, window_size=(800, 500),
+                 live=None, backend=None):
+        self.model = surface if is_model(surface) else None
+        if self.model is not None:
+            if not self.model.faces:
+                raise ValueError(f"the model has no faces to show; problems: {[str(p) for p in self.model.problems]}")
+            base = None
+            lines = int(min(max(int(lines), 4), 64))
+        elif isinstance(surface, BezierPatches):
             base = surface
         elif hasattr(surface, "to_bezier_patches"):
             base = surface.to_bezier_patches()
@@ -96,6 +110,8 @@ class CurvatureExplorer(Explorer):
             raise TypeError(f"expected a lab surface or lab.BezierPatches; got {type(surface).__name__}")
         if patches_class is not None and not (isinstance(patches_class, type) and issubclass(patches_class, BezierPatches)):
             raise TypeError(f"patches_class must be a subclass of lab.BezierPatches; got {patches_class!r}")
+        if patches_class is not None and self.model is not None:
+            raise TypeError("a model's faces are not one collection of Bézier patches: no visualize_curvature to show")
         if patches_class is not None and base is None:
             raise TypeError(f"{type(surface).__name__} is not made of Bézier patches: no visualize_curvature to show")
         super().__init__(window_size=window_size, live=live, backend=backend)
@@ -109,8 +125,13 @@ class CurvatureExplorer(Explorer):
         c = self._control
         self.measure = c(_dropdown(list(measures.items()), "gaussian", N_("measure")))
         self.color_map = c(_dropdown(list(maps.items()), "linear", N_("colour map")))
-        self.depth = c(W.IntSlider(value=depth, min=0, max=max_depth, description=_("depth"), style=style_for(),
-                                   continuous_update=False, layout=_layout()))
+        if self.model is None:
+            self.depth = c(W.IntSlider(value=depth, min=0, max=max_depth, description=_("depth"), style=style_for(),
+                                       continuous_update=False, layout=_layout()))
+        else:  # the resolution control of a model: lines per face (model.to_mesh(n, n)); depth means nothing here
+            self._model_meshes = ModelMeshes(self.model)
+            self.depth = c(W.IntSlider(value=lines, min=4, max=64, step=2, description=_("lines per face"),
+                                       style=style_for(), continuous_update=False, layout=_layout()))
         self.range_mode = c(W.ToggleButtons(
             options=[(_("auto"), "auto"), ("± max", "symmetric"), (_("manual"), "manual")], value="auto",
             description=_("range"), style=style_for(short=True, button_width="auto"), layout=_layout(),
@@ -128,8 +149,9 @@ class CurvatureExplorer(Explorer):
         self.depth.add_class("lab-depth")
         self.show_net = c(W.Checkbox(value=False, description=_("control net"), indent=False,
                                      layout=W.Layout(width="auto")))
-        self.show_borders = c(W.Checkbox(value=False, description=_("patch borders"), indent=False,
-                                         layout=W.Layout(width="auto")))
+        self.show_borders = c(W.Checkbox(value=False, description=_("face borders") if self.model is not None
+                                         else _("patch borders"),
+                                         indent=False, layout=W.Layout(width="auto")))
         self.show_edges = c(W.Checkbox(value=False, description=_("edges by continuity"), indent=False,
                                        layout=W.Layout(width="auto")))
         self.edge_legend = c(W.HTML())
@@ -141,8 +163,10 @@ class CurvatureExplorer(Explorer):
         self._manual = None
         if student:
             self.range_mode.disabled = True
-        # draft angle, minimum radius, combs and the point probe (lab/view/explorers/tools.py): on surfaces
-        self.tools = CurvatureTools(self) if not student and hasattr(surface, "derivatives") else None
+        # draft angle, minimum radius, combs and the point probe (lab/view/explorers/tools.py): on surfaces and
+        # models (the combs and the probe on a face chosen there)
+        self.tools = (CurvatureTools(self) if not student and (hasattr(surface, "derivatives") or self.model is not None)
+                      else None)
         self._build_scene()
         self._observe(self.color_map, self.recolor)
         self._observe(self.measure, self.recolor)
@@ -175,7 +199,9 @@ class CurvatureExplorer(Explorer):
         """The corner mesh at ``depth`` (cached; the student's mode recomputes colours each time)."""
         if self.student is None and depth in self._meshes:
             return self._meshes[depth]
-        if self._base is None:
+        if self.model is not None:
+            patches, mesh = None, self._model_meshes.mesh(depth).copy(deep=False)
+        elif self._base is None:
             n = 8 * 2**depth + 1
             patches, mesh = None, _mesh.surface_mesh(self.source, n, n)
         else:
@@ -204,14 +230,17 @@ class CurvatureExplorer(Explorer):
         return self.mesh
 
     def _add_control_net(self):
-        P = getattr(self.source, "control_points", None)
-        if P is None:
-            return None
-        P = np.asarray(P)
-        nets = P[None] if P.ndim == 3 else P
+        if self.model is not None:
+            nets = [np.asarray(f.surface.control_points, dtype=float) for f in self.model.faces]
+        else:
+            P = getattr(self.source, "control_points", None)
+            if P is None:
+                return None
+            P = np.asarray(P)
+            nets = P[None] if P.ndim == 3 else P
         lines = [pv.lines_from_points(r) for net in nets for r in net] + [
             pv.lines_from_points(c) for net in nets for c in net.transpose(1, 0, 2)]
-        net = pv.merge(lines + [pv.PolyData(nets.reshape(-1, 3).astype(float))])
+        net = pv.merge(lines + [pv.PolyData(np.concatenate([n.reshape(-1, 3) for n in nets]).astype(float))])
         # the net of a convex bump lies above the surface, elsewhere below it: where the surface would hide it,
         # the surface turns translucent while the net is shown (toggle_overlays), and the lines are drawn thick
         actor = self.plotter.add_mesh(net, color="#b3261e", line_width=2, point_size=6, pickable=False,
@@ -227,7 +256,19 @@ class CurvatureExplorer(Explorer):
         else:
             self._show_progress(0.1, _("refining to depth {depth} …").format(depth=depth))
             await checkpoint()
-            if self._base is not None and self.student is None:
+            if self.model is not None:
+                steps = self._model_meshes.steps(depth)
+                n = len(self.model.faces)
+                while True:
+                    try:
+                        done = next(steps)
+                    except StopIteration:
+                        break
+                    self._show_progress(0.05 + 0.8 * done, _("{k} of {n} faces on {lines} lines each …").format(
+                        k=round(done * n), n=n, lines=depth))
+                    await checkpoint()
+                new = self._mesh_for(depth)
+            elif self._base is not None and self.student is None:
                 patches = self._base.copy()
                 for level in range(depth):
                     patches.refine(1)
@@ -252,8 +293,9 @@ class CurvatureExplorer(Explorer):
         self.recolor()
 
     def _add_borders(self):
-        self.borders_actor = self.plotter.add_mesh(self.mesh.extract_all_edges(), color="#333333", line_width=1,
-                                                   pickable=False, lighting=False)
+        lines = face_borders(self.mesh) if self.model is not None else self.mesh.extract_all_edges()
+        self.borders_actor = self.plotter.add_mesh(lines, color="#333333", line_width=1, pickable=False,
+                                                   lighting=False)
 
     def toggle_overlays(self):
         if self.net_actor is not None:
@@ -385,13 +427,19 @@ class CurvatureExplorer(Explorer):
             return np.asarray(self.mesh.point_data["values"])
         return self.values()
 
+    def resolution_text(self):
+        """The resolution as the title says it: "depth 2", or "16 lines per face" on a model."""
+        if self.model is not None:
+            return _("{n} lines per face").format(n=self.depth.value)
+        return _("depth {depth}").format(depth=self.depth.value)
+
     def picture_title(self):
         if self.tools is not None and self.tools.active:
-            return self.tools.title(self.depth.value)
+            return self.tools.title(self.resolution_text())
         maps = {v: k for k, v in self.color_map.options}
         what = _legend.MEASURES[self.measure.value][1] if self.measure.value != "classification" else "K"
-        title = _("{what}, {map}, depth {depth}").format(
-            what=what, map=maps.get(self.color_map.value, self.color_map.value), depth=self.depth.value)
+        title = _("{what}, {map}, {resolution}").format(
+            what=what, map=maps.get(self.color_map.value, self.color_map.value), resolution=self.resolution_text())
         return title + (_(", your visualize_curvature") if self.student is not None else "")
 
     def _recolor_library(self):
@@ -433,7 +481,12 @@ class CurvatureExplorer(Explorer):
         self.mesh.point_data.active_scalars_name = "display"
         self.mesh.GetPointData().GetArray("display").Modified()  # the array was changed in place
         n = int(np.count_nonzero(self.mesh.point_data["degenerate"]))
-        what = (_("{n} patches at depth {depth}") if self._base is not None else _("{n} grid cells at depth {depth}"))
+        if self.model is not None:
+            what = _("{faces} faces, {n} triangles ({depth} lines per face)").replace("{faces}", str(len(self.model)))
+        elif self._base is not None:
+            what = _("{n} patches at depth {depth}")
+        else:
+            what = _("{n} grid cells at depth {depth}")
         finite = v[np.isfinite(v)]
         span = (_("values {lo} … {hi}").format(lo=_readout(float(finite.min())),
                                                hi=_readout(float(finite.max()))).replace("-", "−")

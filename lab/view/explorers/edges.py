@@ -1,4 +1,4 @@
-"""The edge overlay: knot lines, patch borders and face edges drawn as lines coloured by what each achieves.
+"""The edge overlay: knot lines, patch borders and a model's face edges drawn as lines coloured by what each achieves.
 
 One function builds the lines from a :func:`lab.continuity` report, one adds them to a plotter and one writes
 the legend; the curvature and reflection explorers call them behind their "edges by continuity" checkbox.
@@ -11,8 +11,10 @@ import pyvista as pv
 
 from ...i18n import _
 from ...interrogation.continuity import LEVELS, continuity
+from ...interrogation.faces import is_model
 from ...model.patches import BezierPatches
 from ...model.surface import BSplineSurface
+from .. import style
 
 __all__ = ["EDGE_COLORS", "EdgeOverlay", "add_edge_overlay", "edge_legend_html", "edge_lines", "edge_report"]
 
@@ -21,20 +23,25 @@ EDGE_COLORS = {"none": "#d01c8b", "G0": "#d7191c", "G1": "#fdae61", "G2": "#ffff
 
 
 def edge_report(source):
-    """The continuity report of what an explorer shows, or None (an analytic surface has no edges)."""
-    if isinstance(source, (BSplineSurface, BezierPatches)):
+    """The continuity report of what an explorer shows, or None (an analytic surface has no edges).
+
+    A model (:func:`lab.read`) gives its face edges (``model.edges``: the edges two faces share in the file),
+    measured with the default tolerances of :func:`lab.continuity`."""
+    if isinstance(source, (BSplineSurface, BezierPatches)) or is_model(source):
         return continuity(source)
     return None
 
 
 def edge_lines(report):
-    """The report's edges as polylines, one cell each, with cell data ``level`` (index in LEVELS) and ``RGB``."""
+    """The report's edges as polylines, one cell per segment, with cell data ``edge`` (the edge's index in the
+    report), ``level`` (index in LEVELS) and ``RGB``."""
     if report is None or not report.edges:
         return pv.PolyData()
     lines = []
-    for edge in report.edges:
+    for index, edge in enumerate(report.edges):
         line = pv.lines_from_points(np.asarray(edge.points, dtype=float))
         n = line.n_cells
+        line.cell_data["edge"] = np.full(n, index)
         line.cell_data["level"] = np.full(n, LEVELS.index(edge.achieved))
         rgb = np.array([int(EDGE_COLORS[edge.achieved][k:k + 2], 16) for k in (1, 3, 5)], dtype=np.uint8)
         line.cell_data["RGB"] = np.tile(rgb, (n, 1))
@@ -49,9 +56,7 @@ def add_edge_overlay(plotter, report, *, line_width=4.0):
         return None
     actor = plotter.add_mesh(lines, scalars="RGB", rgb=True, preference="cell", line_width=line_width,
                              lighting=False, pickable=False, show_scalar_bar=False)
-    actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
-    actor.mapper.SetRelativeCoincidentTopologyLineOffsetParameters(0, -66000)
-    return actor
+    return style.offset_lines(actor)
 
 
 def edge_legend_html(report):
@@ -90,4 +95,7 @@ class EdgeOverlay:
             return ""
         if self.report is None:
             return "<small>" + html.escape(_("no edges: an analytic surface is one piece")) + "</small>"
+        if is_model(self.source) and not self.report.edges:
+            return "<small>" + html.escape(_("no shared edges: the file's faces are not sewn to each other")) + \
+                "</small>"
         return edge_legend_html(self.report)

@@ -11,13 +11,22 @@ import pyvista as pv
 from ... import mesh as _mesh
 from ...geometry.curvature import DegeneratePointWarning
 from ...i18n import N_, _, decimal
+from ...interrogation.faces import face_surface, is_face, is_model
 from ...interrogation.geodesics import Fan, geodesic_fan, normal_section_fan, polar_isodistance
-from ...interrogation.meshes import as_curvature_mesh, focal_surface, isophotes, reflection_lines, stripe_mapping
+from ...interrogation.meshes import (
+    MODEL_RESOLUTION,
+    as_curvature_mesh,
+    focal_surface,
+    isophotes,
+    reflection_lines,
+    stripe_mapping,
+)
 from ...interrogation.reflection import VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
 from .edges import EdgeOverlay
+from .models import default_point, face_mesh
 
 __all__ = ["FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"]
 
@@ -30,21 +39,38 @@ def _slider(cls, description, **kwargs):
     return cls(description=_(description), style=style_for(), layout=_layout(), **kwargs)
 
 
+def _curvature_mesh(source, resolution, default):
+    """The explorer's mesh with exact curvature, built once: a surface on a ``resolution``² grid (``default`` when
+    None), a model on ``resolution`` lines per face (16 when None: one vertex set per face, see lab.Model.to_mesh)."""
+    if is_model(source):
+        return as_curvature_mesh(source, MODEL_RESOLUTION if resolution is None else resolution)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DegeneratePointWarning)
+        return as_curvature_mesh(source, default if resolution is None else resolution)
+
+
 class FocalExplorer(Explorer):
-    """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (seeds/002, section 4)."""
+    """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (seeds/002, section 4).
+
+    ``surface`` may be a model (:func:`lab.read`): every face has its focal surface, with the face's normal,
+    on ``resolution`` lines per face (default 16; a surface's grid is ``resolution``², default 48).  The
+    surface's mesh with its curvature is built once; a change of the function or the scale moves its points.
+    """
 
     title = N_("focal surface explorer")
     FUNCTIONS: ClassVar[dict] = {N_("H  mean"): "mean", N_("K  Gaussian"): "gaussian", "κ1² + κ2²": "strain-energy", "κ1": "k1",
                  "κ2": "k2"}
 
-    def __init__(self, surface, *, scale=None, resolution=48, window_size=(800, 500), live=None, backend=None):
+    def __init__(self, surface, *, scale=None, resolution=None, window_size=(800, 500), live=None, backend=None):
         super().__init__(window_size=window_size, live=live, backend=backend)
         self._focal = focal_surface
         self.source = surface
         self.resolution = resolution
+        self.model = surface if is_model(surface) else None
+        self._mesh = _curvature_mesh(surface, resolution, 48)
         self.function = self._control(_dropdown(list(self.FUNCTIONS.items()), "mean", N_("function")))
         if scale is None:  # the largest displacement a tenth of the model's size
-            probe = focal_surface(surface, scale=1.0, function="mean", resolution=resolution)
+            probe = focal_surface(self._mesh, scale=1.0, function="mean")
             size = float(np.linalg.norm(np.ptp(probe.point_data["X"], axis=0)))
             fmax = float(np.max(np.abs(probe.point_data["f"]))) or 1.0
             scale = float(f"{0.1 * size / fmax:.2g}")
@@ -61,7 +87,7 @@ class FocalExplorer(Explorer):
         return [self.function, self.scale, self.show_surface]
 
     def _build_scene(self):
-        base = self._focal(self.source, scale=0.0, function="mean", resolution=self.resolution)
+        base = self._focal(self._mesh, scale=0.0, function="mean")
         self.surface_mesh = base.copy()
         self.surface_actor = self.plotter.add_mesh(self.surface_mesh, color="#c8c8c8", opacity=0.45,
                                                    smooth_shading=True, **style.SURFACE_PROPERTIES)
@@ -79,8 +105,7 @@ class FocalExplorer(Explorer):
         return _legend.legend(self.function.value, "coolwarm", clim=(-lim, lim))
 
     def update_focal(self):
-        new = self._focal(self.source, scale=self.scale.value, function=self.function.value,
-                          resolution=self.resolution)
+        new = self._focal(self._mesh, scale=self.scale.value, function=self.function.value)
         self.focal_mesh.points = new.points
         self.focal_mesh.point_data["f"] = new.point_data["f"]
         f = np.asarray(new.point_data["f"])
@@ -92,17 +117,24 @@ class FocalExplorer(Explorer):
 
 
 class ReflectionExplorer(Explorer):
-    """Reflection lines, isophotes and the striped box mapping on a surface (seeds/002, section 3)."""
+    """Reflection lines, isophotes and the striped box mapping on a surface (seeds/002, section 3).
+
+    ``surface`` may be a model (:func:`lab.read`), on ``resolution`` lines per face (default 16; a surface's
+    grid is ``resolution``², default 64).  Its faces are not welded: the lines are joined across face borders
+    where their ends meet (:mod:`lab.interrogation.faces`), so they run on over tangent-continuous edges and
+    break at kinks, as the "edges by continuity" overlay shows them.
+    """
 
     title = N_("reflection explorer")
     camera_direction = VIEW_DIRECTION  # reflections depend on the eye: look from the one they are computed for
     KINDS: ClassVar[dict] = {N_("stripe box mapping"): "stripes", N_("reflection lines (light lines)"): "lines",
              N_("isophotes"): "isophotes"}
 
-    def __init__(self, surface, *, resolution=64, window_size=(800, 500), live=None, backend=None):
+    def __init__(self, surface, *, resolution=None, window_size=(800, 500), live=None, backend=None):
         super().__init__(window_size=window_size, live=live, backend=backend)
         self.source = surface
         self.resolution = resolution
+        self.model = surface if is_model(surface) else None
         c = self._control
         self.kind = c(_dropdown(list(self.KINDS.items()), "stripes", N_("show")))
         self.kind.add_class("lab-primary-control")
@@ -142,9 +174,7 @@ class ReflectionExplorer(Explorer):
         return np.array([np.cos(a) * np.cos(e), np.sin(a) * np.cos(e), np.sin(e)])
 
     def _build_scene(self):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", DegeneratePointWarning)
-            self.surface_mesh = as_curvature_mesh(self.source, self.resolution)
+        self.surface_mesh = _curvature_mesh(self.source, self.resolution, 64)
         self.surface_actor = self.plotter.add_mesh(self.surface_mesh, color="#e6e6e6", smooth_shading=True,
                                                    **style.SURFACE_PROPERTIES)
         self.overlay = pv.PolyData()
@@ -200,9 +230,11 @@ class GeodesicExplorer(Explorer):
 
     Parameters
     ----------
-    surface : lab surface
+    surface : lab surface or lab.Face
+        A surface, or a face of a model (:func:`lab.read`): the paths then stop where they leave the face's
+        trimmed region, the start sliders span the face's loops and the parameter domain shows them.
     start : (float, float), optional
-        Start point (u0, v0); default: the domain's centre.
+        Start point (u0, v0); default: the domain's centre (on a face: a point inside it).
     n_angles : int
     step : float, optional
         Isodistance step s_L; default: a fifth of the surface's size divided by ``n_curves``.
@@ -226,13 +258,19 @@ class GeodesicExplorer(Explorer):
                           "n_curves=… (the number of paths is n_angles)", DeprecationWarning, stacklevel=2)
             n_curves = count
         super().__init__(window_size=window_size, live=live, backend=backend)
-        self.source = surface
-        (u0, u1), (v0, v1) = surface.domain
-        if start is None:
-            start = (0.5 * (u0 + u1), 0.5 * (v0 + v1))
+        self.face = surface if is_face(surface) else None
+        self.source = face_surface(surface) if self.face is not None else surface
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", DegeneratePointWarning)
-            self.surface_mesh = _mesh.surface_mesh(surface, 64, 64)
+            if self.face is None:
+                self.surface_mesh = _mesh.surface_mesh(surface, 64, 64)
+                (u0, u1), (v0, v1) = surface.domain
+            else:  # the face in its trimmed region; the sliders span its loops
+                self.surface_mesh = face_mesh(self.face, 32)
+                (u0, u1), (v0, v1) = self._box()
+        if start is None:
+            start = (default_point(self.surface_mesh, self.face.index) if self.face is not None
+                     else (0.5 * (u0 + u1), 0.5 * (v0 + v1)))
         size = float(np.linalg.norm(np.ptp(self.surface_mesh.points, axis=0)))
         if step is None:
             step = float(f"{size / (5 * n_curves):.2g}")
@@ -310,7 +348,8 @@ class GeodesicExplorer(Explorer):
                         else _("computing {n} normal sections of length {length:g}: {done} done …"))
                 self._show_progress(first / n, what.format(n=n, length=length, done=first))
                 await checkpoint()
-                part = fan_fn(self.source, uv0, None, length, angles=angles[first:first + self.CHUNK], n_samples=61)
+                part = fan_fn(self.face or self.source, uv0, None, length, angles=angles[first:first + self.CHUNK],
+                              n_samples=61)
                 paths += part.paths
             self.fan = Fan(paths, angles, part.origin, part.length, part.kind, part.surface, full)
             self._fan_key = key
@@ -333,8 +372,9 @@ class GeodesicExplorer(Explorer):
         reached = [d for d, pieces in zip(distances, iso) if pieces]
         short = [p for p in fan if p.length < length * (1 - 1e-9)]
         stopped = sum(1 for p in short if p.hit_boundary)
-        note = _("{stopped} of {n} paths reach the boundary before length {length:g}").format(
-            stopped=stopped, n=len(fan), length=length) if stopped else ""
+        what = (_("{stopped} of {n} paths leave the face before length {length:g}") if self.face is not None
+                else _("{stopped} of {n} paths reach the boundary before length {length:g}"))
+        note = what.format(stopped=stopped, n=len(fan), length=length) if stopped else ""
         if len(reached) < len(distances):
             note += ("; " if note else "") + _("no path reaches s_L ≥ {s:g}").format(s=distances[len(reached)])
         self.refresh()
@@ -361,9 +401,17 @@ class GeodesicExplorer(Explorer):
             out += [points + LIFT * size * N, points - LIFT * size * N]
         return out
 
+    def _box(self):
+        """The (u, v) box shown: the surface's domain, or the bounding box of a face's loops."""
+        if self.face is None or self.face.trim is None:
+            return self.source.domain
+        X = np.concatenate(self.face.trim.loops)
+        lo, hi = X.min(axis=0), X.max(axis=0)
+        return (float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1]))
+
     def _domain_svg(self, fan, iso, length):
         """The paths and curves in the parameter domain as SVG (drawn by the browser, crisp at any width)."""
-        (u0, u1), (v0, v1) = self.source.domain
+        (u0, u1), (v0, v1) = self._box()
         H_, m = 300.0, 34.0
         # one unit of u as long as one of v: a circle in the domain is drawn round (the box is square on a square domain)
         ph = H_ - 2 * m
@@ -377,6 +425,9 @@ class GeodesicExplorer(Explorer):
             return " ".join(f"{a:.1f},{b:.1f}" for a, b in zip(x, y))
 
         parts = []
+        if self.face is not None and self.face.trim is not None:  # the face's loops, outer first
+            for loop in self.face.trim.loops:
+                parts.append(f'<polygon points="{xy(loop)}" fill="none" stroke="#57606a" stroke-width="1.2"/>')
         for p in fan:
             keep = p.s <= length * (1 + 1e-9)
             parts.append(f'<polyline points="{xy(p.uv[keep])}" fill="none" stroke="#1f3b73" stroke-width="0.8"/>')

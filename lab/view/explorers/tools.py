@@ -3,6 +3,10 @@
 The probe is a (u, v) control (two sliders), not picking: in the browser-rendered view (PyVista's ``client``
 backend, vtk.js) a pick happens in the browser and never reaches the kernel, where the exact curvature lives;
 the sliders work the same in every backend and in the static picture.
+
+On a model (a part from :func:`lab.read`) the maps colour every face (they need only the mesh's normals and
+principal curvatures); the combs and the probe belong to one surface, so they work on the face chosen in the
+"face" menu: the combs along its trimming loops and iso-curves cut to it, the probe at (u, v) inside it.
 """
 
 import html
@@ -17,6 +21,7 @@ from ...interrogation.probe import probe, probe_lines
 from .. import legend as _legend
 from .. import style
 from .base import _dropdown, _layout, style_for
+from .models import default_point, face_label
 
 #: the pull directions offered (label, vector)
 PULLS = (("+z", (0.0, 0.0, 1.0)), ("−z", (0.0, 0.0, -1.0)), ("+x", (1.0, 0.0, 0.0)), ("−x", (-1.0, 0.0, 0.0)),
@@ -34,9 +39,16 @@ class CurvatureTools:
 
     def __init__(self, explorer):
         self.e = e = explorer
-        self.surface = e.source
+        self.model = getattr(e, "model", None)
         c = e._control
-        (u0, u1), (v0, v1) = self.surface.domain
+        self.face = None
+        if self.model is not None:  # the combs and the probe work on one face of the model
+            self.face = c(W.Dropdown(options=[(face_label(f), f.index) for f in self.model.faces],
+                                     value=self.model.faces[0].index, description=_("face"), style=style_for(),
+                                     layout=_layout()))
+            self.face.add_class("lab-face")
+        self.surface = e.source if self.model is None else self.model.face(self.face.value)
+        (u0, u1), (v0, v1) = self._uv_box()
         self.map = c(_dropdown([(_("curvature"), "curvature"), (_("draft angle"), "draft"),
                                 (_("radius below r"), "radius")], "curvature", N_("map")))
         self.pull = c(W.Dropdown(options=[(label, i) for i, (label, _v) in enumerate(PULLS)], value=0,
@@ -60,6 +72,9 @@ class CurvatureTools:
         self.readout = c(W.HTML())
         self.lines_actor = None
         self.last_probe = None
+        if self.model is not None:
+            self._place_probe()
+            e._observe(self.face, self.choose_face)
         for w in (self.map, self.pull, self.radius):
             e._observe(w, self.recolor_map)
         for w in (self.combs, self.comb_scale, self.comb_density, self.comb_count, self.probe, self.u, self.v):
@@ -71,8 +86,37 @@ class CurvatureTools:
         return self.map.value != "curvature"
 
     def box(self):
-        return W.VBox([self.map, self.pull, self.radius, self.combs, self.comb_scale, self.comb_density,
+        face = [self.face] if self.face is not None else []
+        return W.VBox([self.map, self.pull, self.radius, *face, self.combs, self.comb_scale, self.comb_density,
                        self.comb_count, self.probe, self.u, self.v, self.readout], layout=W.Layout(width="auto"))
+
+    # -- the face of a model --------------------------------------------------------------------
+
+    def _uv_box(self):
+        """The (u, v) box the probe's sliders span: the surface's domain, or a face's loops' bounding box."""
+        trim = getattr(self.surface, "trim", None)
+        if trim is None:
+            return self.surface.domain
+        X = np.concatenate(trim.loops)
+        lo, hi = X.min(axis=0), X.max(axis=0)
+        return (float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1]))
+
+    def _place_probe(self):
+        """The sliders span the chosen face; the probe starts at a point inside it."""
+        (u0, u1), (v0, v1) = self._uv_box()
+        u, v = default_point(self.e._model_meshes.mesh(self.e.depth.value), self.face.value)
+        with self.e._quiet():
+            for slider, lo, hi, x in ((self.u, u0, u1, u), (self.v, v0, v1, v)):
+                slider.min, slider.max = min(lo, slider.min), max(hi, slider.max)  # never min > max on the way
+                slider.min, slider.max = lo, hi
+                slider.step = (hi - lo) / 200 if hi > lo else 1.0
+                slider.value = min(max(x, lo), hi)
+
+    def choose_face(self):
+        """Another face for the combs and the probe."""
+        self.surface = self.model.face(self.face.value)
+        self._place_probe()
+        self.update_lines()
 
     # -- maps ---------------------------------------------------------------------------------
 
@@ -103,12 +147,13 @@ class CurvatureTools:
         e.actor.mapper.ScalarVisibilityOn()
         self.update_lines()
 
-    def title(self, depth):
-        """The picture's title while a CAD map colours the surface."""
+    def title(self, resolution):
+        """The picture's title while a CAD map colours the surface (``resolution``: "depth 2", "16 lines per face")."""
         if self.map.value == "draft":
-            return _("draft angle, pull {pull}, depth {depth}").format(pull=PULLS[self.pull.value][0], depth=depth)
-        return _("radius of curvature below {r}, depth {depth}").format(
-            r=_legend.decimal(f"{self.radius.value:g}"), depth=depth)
+            return _("draft angle, pull {pull}, {resolution}").format(pull=PULLS[self.pull.value][0],
+                                                                     resolution=resolution)
+        return _("radius of curvature below {r}, {resolution}").format(
+            r=_legend.decimal(f"{self.radius.value:g}"), resolution=resolution)
 
     def legend(self):
         return _legend.draft_legend() if self.map.value == "draft" else _legend.radius_legend(self.radius.value)
