@@ -94,6 +94,14 @@ def _scalar(x):
     return None
 
 
+def _number(value, name, minimum=None):
+    """:func:`as_number` for a parameter, with the scalar path's shortcut for a plain finite float in range."""
+    s = _scalar(value)
+    if s is not None and (minimum is None or s >= minimum):
+        return s
+    return as_number(value, name, minimum=minimum)
+
+
 def _range_needs_values(x, what, given):
     """A map that finds its range from the values refuses an empty array unless the range is ``given``."""
     if not x.size:
@@ -157,9 +165,9 @@ def f2(x, vmin=None, vmax=None, *, atol=0.0, rtol=1e-9):
     x = np.float64(s) if s is not None else _values(x)
     if vmin is None or vmax is None:
         _range_needs_values(x, "f2", "vmin and vmax")
-    lo = np.min(x) if vmin is None else as_number(vmin, "vmin")
-    hi = np.max(x) if vmax is None else as_number(vmax, "vmax")
-    atol, rtol = as_number(atol, "atol", minimum=0), as_number(rtol, "rtol", minimum=0)
+    lo = np.min(x) if vmin is None else _number(vmin, "vmin")
+    hi = np.max(x) if vmax is None else _number(vmax, "vmax")
+    atol, rtol = _number(atol, "atol", minimum=0), _number(rtol, "rtol", minimum=0)
     if hi < lo:
         raise ValueError(f"f2 needs vmin <= vmax; got vmin={lo:g}, vmax={hi:g}")
     if hi - lo <= max(atol, rtol * max(abs(lo), abs(hi))):

@@ -58,7 +58,7 @@ def linkrods():
 
 
 def bottle():
-    """OpenCASCADE's ``occ/bottle.brep``: 71 faces, mostly analytic; two of them are listed in ``problems``."""
+    """OpenCASCADE's ``occ/bottle.brep``: 71 faces, mostly analytic, a thread among them (a cylinder face that winds twice)."""
     return sample("occ/bottle.brep")
 
 
