@@ -56,13 +56,14 @@ def face_arrays(face, n_u=16, n_v=16, min_angle=None, memory_limit=None):
     -------
     points : (k, 3) ndarray
     triangles : (t, 3) int ndarray, oriented by the face's normal
-    data : dict of ``K, H, k1, k2, degenerate, N, uv``
+    data : dict of ``K, H, k1, k2, degenerate, N, uv`` (``uv`` in the file's parameters)
     """
+    surface = getattr(face, "file_surface", face.surface)  # the file's (u, v): the loops' and the mesh's "uv"
     if face.trim is None:
-        uv, tri = _grid(face.surface.domain, n_u, n_v)
+        uv, tri = _grid(surface.domain, n_u, n_v)
     else:
         uv, tri = _triangulate(face.trim, n_u, n_v, min_angle)
-    b, N, c = face.surface.sample_points(uv[:, 0], uv[:, 1], memory_limit=memory_limit)
+    b, N, c = surface.sample_points(uv[:, 0], uv[:, 1], memory_limit=memory_limit)
     if face.reversed:
         c, N, tri = flip(c), -N, tri[:, ::-1]
     missing = ~np.all(np.isfinite(N), axis=1)
