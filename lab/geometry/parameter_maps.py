@@ -127,16 +127,18 @@ class ParameterMap(NamedTuple):
             T = np.tanh((t - self.origin) / 2)
             return self.origin + c * T, 0.5 * c * (1 - T * T), -0.5 * c * T * (1 - T * T)
         theta = t + self.a
-        if self.period:
+        if self.period:  # angles outside the turn the NURBS covers move by whole periods (its ends stay)
             lo = self._angle(self.knots[self.degree])
-            theta = lo + np.mod(theta - lo, self.period)
+            outside = (theta < lo) | (theta > lo + self.period)
+            theta = np.where(outside, lo + np.mod(theta - lo, self.period), theta)
         c = h / np.tan(h / 2)
         mid = self._middle(np.floor((theta - self.origin) / (2 * h)))
         s = mid + c * np.tan((theta - mid) / 2)
         if self.knots is not None:  # at a knot: the span of the NURBS's evaluator (s'' jumps there)
             span = find_span(self.knots, self.degree, s)
             centre = 0.5 * (self.knots[span] + self.knots[np.minimum(span + 1, len(self.knots) - 1)])
-            mid = self._middle(np.floor((centre - self.origin) / (2 * h)))
+            inside = (s >= self.knots[self.degree]) & (s <= self.knots[-self.degree - 1])
+            mid = np.where(inside, self._middle(np.floor((centre - self.origin) / (2 * h))), mid)
         T = np.tan((theta - mid) / 2)
         return mid + c * T, 0.5 * c * (1 + T * T), 0.5 * c * T * (1 + T * T)
 

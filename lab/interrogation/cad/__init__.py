@@ -10,11 +10,12 @@ from .model import Edge, Face, Model, Problem
 __all__ = ["Edge", "Face", "Model", "Problem", "read", "write"]
 
 
-def write(obj, path):
-    """Write a model (untrimmed faces) or a lab surface as ``.brep``, ``.step`` or ``.3dm``: see :func:`.writer.write`."""
+def write(obj, path, *, drop_trims=False):
+    """Write a model (trimmed faces with their loops), a lab.TrimmedSurface or a lab surface as ``.brep``,
+    ``.step`` or ``.3dm``: see :func:`.writer.write`."""
     from .writer import write as _write
 
-    return _write(obj, path)
+    return _write(obj, path, drop_trims=drop_trims)
 
 
 def read(path, *, name=None, sew=None):
