@@ -171,12 +171,12 @@ def test_faces_come_in_the_files_order_with_their_kinds_and_parameter_maps(model
             assert face.file_surface is face.surface
 
 
-def _occ_loops(f, n=occ.PCURVE_SAMPLES):
-    """A face's wires sampled by OpenCASCADE point by point (BRepAdaptor_Curve2d.Value), outer first: each
-    edge's pcurve at n equally spaced parameters (2 on a line) in the wire's sense, its last point dropped."""
+def _occ_loops(f, n=2000):
+    """A face's wires sampled densely by OpenCASCADE point by point (BRepAdaptor_Curve2d.Value), outer first:
+    each edge's pcurve at n equally spaced parameters (2 on a line)."""
     from OCP.BRepAdaptor import BRepAdaptor_Curve2d
     from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
-    from OCP.TopAbs import TopAbs_REVERSED, TopAbs_WIRE
+    from OCP.TopAbs import TopAbs_WIRE
     from OCP.TopExp import TopExp_Explorer
 
     outer = BRepTools.OuterWire_s(f)
@@ -190,8 +190,7 @@ def _occ_loops(f, n=occ.PCURVE_SAMPLES):
         while walk.More():
             c = BRepAdaptor_Curve2d(walk.Current(), f)
             t = np.linspace(c.FirstParameter(), c.LastParameter(), 2 if c.GetType().name == "GeomAbs_Line" else n)
-            t = t[::-1] if walk.Current().Orientation() == TopAbs_REVERSED else t
-            points += [(c.Value(float(x)).X(), c.Value(float(x)).Y()) for x in t[:-1]]
+            points += [(c.Value(float(x)).X(), c.Value(float(x)).Y()) for x in t]
             walk.Next()
         loops.append(np.array(points))
     return loops
@@ -199,12 +198,13 @@ def _occ_loops(f, n=occ.PCURVE_SAMPLES):
 
 @needs_data
 def test_trimming_loops_are_the_files_pcurves(models):
-    """Every trimmed face's loops (outer first) are its pcurves in the file's (u, v): the points OpenCASCADE
-    gives point by point (the lab reads lines, circles and B-spline pcurves once and evaluates them with NumPy)
-    to 1e-12 of the face's (u, v) bounds, within those bounds; on analytic faces the lab's surface there is the
-    file's surface."""
+    """Every trimmed face's loops (outer first) are its pcurves in the file's (u, v), sampled by OpenCASCADE to
+    a chordal tolerance (GCPnts_TangentialDeflection, occ.PCURVE_RTOL = 1e-3 of the smaller side of the face's
+    (u, v) box): their points lie on the pcurves (within 2e-6 of the box's diagonal of a 2000-point sampling of
+    each, itself that close to the curve) and the pcurves within twice the tolerance of the loops (OpenCASCADE
+    keeps it only approximately: measured 1.35 times on linkrods.step's face 17); the loops lie
+    in the face's domain; on analytic faces the lab's surface there is the file's surface."""
     from OCP.BRep import BRep_Tool
-    from OCP.BRepTools import BRepTools
 
     for name in ("occ/shell1.brep", "step/linkrods.step", "occ/Top.brep"):
         model = models[name]
@@ -215,18 +215,19 @@ def test_trimming_loops_are_the_files_pcurves(models):
         assert len(trimmed) >= 10
         for face in trimmed:
             assert face.trim.surface is face.file_surface
-            u0, u1, v0, v1 = BRepTools.UVBounds_s(shapes[face.index])
+            (u0, u1), (v0, v1) = face.domain
             scale = np.hypot(u1 - u0, v1 - v0)
-            ref = [np.column_stack([np.clip(r[:, 0], *face.domain[0]), np.clip(r[:, 1], *face.domain[1])])
-                   for r in _occ_loops(shapes[face.index])]
-            for loop, r in zip(face.trim.loops, ref):
-                # the lab orients the outer loop counter-clockwise and the holes clockwise, drops repeats
-                r = r if lab.trimming.signed_area(r) * lab.trimming.signed_area(loop) > 0 else r[::-1]
-                d = lab.trimming.distance_to_loop(r, loop)
-                assert d.max() <= 1e-12 * scale, f"{name} face {face.index}: {d.max():g}"
-            X = np.concatenate(face.trim.loops)  # within the face's domain (the bounds within its tolerance)
-            (a0, a1), (b0, b1) = face.domain
-            assert np.all((X >= np.array([a0, b0]) - 1e-9 * scale) & (X <= np.array([a1, b1]) + 1e-9 * scale))
+            tol = occ.PCURVE_RTOL * min(u1 - u0, v1 - v0)
+            dense = [np.column_stack([np.clip(r[:, 0], u0, u1), np.clip(r[:, 1], v0, v1)])
+                     for r in _occ_loops(shapes[face.index])]
+            assert len(dense) == len(face.trim.loops)
+            for loop, r in zip(face.trim.loops, dense):
+                on = lab.trimming.distance_to_loop(loop, r).max()
+                near = lab.trimming.distance_to_loop(r, loop).max()
+                # OpenCASCADE checks the deflection at points between its samples: measured up to 1.35 times it
+                assert on <= 2e-6 * scale and near <= 2 * tol, (name, face.index, on, near / tol)
+            X = np.concatenate(face.trim.loops)  # in the face's domain (B-spline faces: within their surface's)
+            assert np.all((X >= np.array([u0, v0]) - 1e-9 * scale) & (X <= np.array([u1, v1]) + 1e-9 * scale))
             for loop in face.trim.loops:
                 assert np.all(face.trim.contains(loop[:, 0], loop[:, 1]))
         for face in [f for f in trimmed if f.maps][:40]:

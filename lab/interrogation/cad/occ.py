@@ -30,7 +30,7 @@ from ...geometry.parameter_maps import ParameterMap, circle_spans
 from ...model.surface import BSplineSurface, ReparametrizedSurface
 from ..trimming import trimmed
 from ..trimming.loops import signed_area
-from .curves import curve2d_values, curve3d_values
+from .curves import curve2d_values, curve3d_values, pcurve_points
 from .model import Edge, Face, Model, Problem
 
 __all__ = ["EXTENSIONS", "lab_surface", "occ_shape", "read_occ", "require_ocp", "sew_faces"]
@@ -38,8 +38,12 @@ __all__ = ["EXTENSIONS", "lab_surface", "occ_shape", "read_occ", "require_ocp", 
 #: File name endings read through OpenCASCADE.
 EXTENSIONS = {".step": "STEP", ".stp": "STEP", ".iges": "IGES", ".igs": "IGES", ".brep": "BREP", ".brp": "BREP"}
 
-#: Samples per pcurve that is not a straight line (a line gets its two ends).
+#: Samples per shared edge (the 3-D curve and both pcurves at the same parameters).
 PCURVE_SAMPLES = 24
+
+#: Chordal tolerance of a trimming loop's polyline: this fraction of the smaller side of its face's (u, v) box
+#: (:func:`lab.interrogation.cad.curves.pcurve_points`; a line is its two ends).
+PCURVE_RTOL = 1e-3
 
 #: A parameter map is accepted when the NURBS at the mapped parameters is the file's surface to this
 #: fraction of the face's size (measured: 1e-15 for the exact maps, 1e-3 and more for a wrong one).
@@ -119,16 +123,22 @@ def _kind(surface):
     return name.removeprefix("GeomAbs_")
 
 
-def _weights(bs):
-    """The weights as an ``Array2_double`` and an ndarray, read one by one.
+def _weight_values(bs):
+    """The weights as an ndarray, read one by one.
 
     ``Geom_BSplineSurface.Weights()`` must not be called from Python: OCP hands
     out the surface's own array as a pointer it then frees (a double free).
     """
+    nu, nv = bs.NbUPoles(), bs.NbVPoles()
+    return np.array([[bs.Weight(i, j) for j in range(1, nv + 1)] for i in range(1, nu + 1)])
+
+
+def _weights(bs):
+    """The weights as an ``Array2_double`` (to build a copy of the surface) and an ndarray."""
     from OCP.OCP.collections import Array2_double
 
-    nu, nv = bs.NbUPoles(), bs.NbVPoles()
-    w = np.array([[bs.Weight(i + 1, j + 1) for j in range(nv)] for i in range(nu)])
+    w = _weight_values(bs)
+    nu, nv = w.shape
     W = Array2_double(1, nu, 1, nv)
     for i in range(nu):
         for j in range(nv):
@@ -140,12 +150,9 @@ def lab_surface(bs):
     """A :class:`lab.BSplineSurface` with the poles, weights, knots and degrees of a ``Geom_BSplineSurface``."""
     nu, nv = bs.NbUPoles(), bs.NbVPoles()
     poles = bs.Poles()
-    P = np.empty((nu, nv, 3))
-    for i in range(nu):
-        for j in range(nv):
-            p = poles.Value(i + 1, j + 1)
-            P[i, j] = p.X(), p.Y(), p.Z()
-    weights = _weights(bs)[1] if (bs.IsURational() or bs.IsVRational()) else None
+    P = np.array([[(q.X(), q.Y(), q.Z()) for q in (poles.Value(i, j) for j in range(1, nv + 1))]
+                  for i in range(1, nu + 1)], dtype=float).reshape(nu, nv, 3)
+    weights = _weight_values(bs) if (bs.IsURational() or bs.IsVRational()) else None
     ku, kv = bs.UKnotSequence(), bs.VKnotSequence()
     knots_u = np.array([ku.Value(k) for k in range(ku.Lower(), ku.Upper() + 1)])
     knots_v = np.array([kv.Value(k) for k in range(kv.Lower(), kv.Upper() + 1)])
@@ -273,18 +280,31 @@ def _find_maps(surface, nurbs, domain, periods=(0.0, 0.0), candidates=None):
     u, v = u.ravel(), v.ravel()
     ref = np.array([[p.X(), p.Y(), p.Z()] for p in (surface.Value(float(a), float(b)) for a, b in zip(u, v))])
     (s_lo, s_hi), (t_lo, t_hi) = nurbs.domain
-    best = (None, None, np.inf)
+    tol = MAP_RTOL * _size(nurbs)
     if candidates is None:
         candidates = (_map_candidates((u0, u1), nurbs.knots_u, nurbs.degree[0], periods[0]),
                       _map_candidates((v0, v1), nurbs.knots_v, nurbs.degree[1], periods[1]))
+
+    def deviation(mu, mv, rows=slice(None)):
+        s = np.clip(mu(u[rows])[0], s_lo, s_hi) if mu is not None else np.full(u[rows].shape, s_lo)
+        t = np.clip(mv(v[rows])[0], t_lo, t_hi) if mv is not None else np.full(v[rows].shape, t_lo)
+        return float(np.linalg.norm(nurbs._derivatives(s, t).b - ref[rows], axis=1).max())
+
+    # every candidate takes the file's first parameter to the NURBS's first (usually): each direction's map
+    # chosen along the other's first line, then the pair checked on the whole grid; else every pair
+    guess = [next((m for m in candidates[0] if deviation(m, None, slice(0, None, 5)) <= tol), None),
+             next((m for m in candidates[1] if deviation(None, m, slice(0, 5)) <= tol), None)]
+    if None not in guess:
+        err = deviation(*guess)
+        if err <= tol:
+            return guess[0], guess[1], err
+    best = (None, None, np.inf)
     for mu in candidates[0]:
-        s = np.clip(mu(u)[0], s_lo, s_hi)
         for mv in candidates[1]:
-            t = np.clip(mv(v)[0], t_lo, t_hi)
-            err = float(np.linalg.norm(nurbs.evaluate(s, t) - ref, axis=1).max())
+            err = deviation(mu, mv)
             if err < best[2]:
                 best = (mu, mv, err)
-            if err <= MAP_RTOL * _size(nurbs):
+            if err <= tol:
                 return best
     return best
 
@@ -363,25 +383,19 @@ def _file_surface(nurbs, maps, domain, kind):
 # -- trimming loops ------------------------------------------------------------------------------------
 
 
-def _pcurve(edge, face, n=PCURVE_SAMPLES):
-    """``(t, uv (k, 2))`` of the edge's pcurve on the face, in the edge's direction within the face's wire."""
+def _loops(face, box):
+    """The face's wires as (u, v) polylines in the file's parameters, outer first, each closed implicitly.
+
+    Each pcurve within :data:`PCURVE_RTOL` of the smaller side of the face's (u, v) box ``box``, in the
+    wire's order and sense (an edge reversed in its wire runs its pcurve backwards).
+    """
     from OCP.BRepAdaptor import BRepAdaptor_Curve2d
-    from OCP.TopAbs import TopAbs_REVERSED
-
-    c2d = BRepAdaptor_Curve2d(edge, face)
-    line = c2d.GetType().name == "GeomAbs_Line"
-    t = np.linspace(c2d.FirstParameter(), c2d.LastParameter(), 2 if line else n)
-    if edge.Orientation() == TopAbs_REVERSED:
-        t = t[::-1]
-    return t, curve2d_values(c2d, t)
-
-
-def _loops(face):
-    """The face's wires as (u, v) polylines in the file's parameters, outer first, each closed implicitly."""
     from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
-    from OCP.TopAbs import TopAbs_WIRE
+    from OCP.TopAbs import TopAbs_REVERSED, TopAbs_WIRE
     from OCP.TopExp import TopExp_Explorer
 
+    (u0, u1), (v0, v1) = box
+    deflection = PCURVE_RTOL * min(u1 - u0, v1 - v0)
     outer = BRepTools.OuterWire_s(face)
     wires = []
     explorer = TopExp_Explorer(face, TopAbs_WIRE)
@@ -394,7 +408,9 @@ def _loops(face):
         parts = []
         walk = BRepTools_WireExplorer(wire, face)
         while walk.More():
-            parts.append(_pcurve(walk.Current(), face)[1][:-1])
+            edge = walk.Current()
+            points = pcurve_points(BRepAdaptor_Curve2d(edge, face), deflection, edge.Orientation() == TopAbs_REVERSED)
+            parts.append(points[:-1])  # its last point is the next pcurve's first
             walk.Next()
         if parts:
             loops.append(np.concatenate(parts))
@@ -435,18 +451,19 @@ def _face(index, face):
     kind = _kind(BRep_Tool.Surface_s(face))
     nurbs, maps, domain, exact, deviation = _nurbs(face, kind)
     surface = _file_surface(nurbs, maps, domain, kind)
-    loops = _oriented(_loops(face), domain)
-    trim = None
-    if loops and not (len(loops) == 1 and _is_full_domain(loops[0], domain)):
-        trim = trimmed(surface, loops[0], loops[1:])
+    box = domain
     if maps is None:  # the pcurves' box within the surface's domain (a B-spline face may use part of it)
         u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
         (a0, a1), (b0, b1) = domain
-        box = ((max(u0, a0), min(u1, a1)), (max(v0, b0), min(v1, b1)))
-        if box[0][1] > box[0][0] and box[1][1] > box[1][0]:
-            domain = box
-    return Face(index, kind, nurbs, trim, face.Orientation() == TopAbs_REVERSED, file_surface=surface,
-                domain=domain, maps=maps, exact=exact, deviation=deviation)
+        inner = ((max(u0, a0), min(u1, a1)), (max(v0, b0), min(v1, b1)))
+        if inner[0][1] > inner[0][0] and inner[1][1] > inner[1][0]:
+            box = inner
+    loops = _oriented(_loops(face, box), domain)
+    trim = None
+    if loops and not (len(loops) == 1 and _is_full_domain(loops[0], domain)):
+        trim = trimmed(surface, loops[0], loops[1:])
+    return Face(index, kind, nurbs, trim, face.Orientation() == TopAbs_REVERSED, file_surface=surface, domain=box,
+                maps=maps, exact=exact, deviation=deviation)
 
 
 # -- shared edges and sewing ---------------------------------------------------------------------------
