@@ -556,19 +556,57 @@ def test_render_a_part_from_a_file(tmp_path):
         cli.main(["render", "--file", str(tmp_path / "none.step"), "--quiet", "-o", str(tmp_path / "x.png")])
 
 
+#: The teapot's bottom as freeglut publishes it (src/fg_teapot_data.h, MIT licence: patchdata_teapot's "bottom"
+#: row {64 x 4, 65-68, 69-72, 39, 38, 37, 36} of cpdata_teapot, transcribed), in Newell's units: the centre, the
+#: ring of radius 1.425 at height 0, radius 1.5 at height 0.075, the body's lowest ring (radius 1.5, height 0.15);
+#: freeglut turns it into the four quadrants by the signs of x and y.  (splipy's 32-patch teapot.bpt has no
+#: bottom: its 4 patches besides Newell's 28 are a flat disc at the rim's height.)
+FREEGLUT_BOTTOM = np.array([
+    [(0, 0, 0)] * 4,
+    [(0, -1.425, 0), (0.798, -1.425, 0), (1.425, -0.798, 0), (1.425, 0, 0)],
+    [(0, -1.5, 0.075), (0.84, -1.5, 0.075), (1.5, -0.84, 0.075), (1.5, 0, 0.075)],
+    [(0, -1.5, 0.15), (0.84, -1.5, 0.15), (1.5, -0.84, 0.15), (1.5, 0, 0.15)],
+])
+
+
 def test_the_teapot_has_32_patches_a_closed_bottom_and_degenerate_points():
+    """The four bottom patches: their outer row is the body's lowest row (the pot is closed), their rows lie at
+    the published heights (Newell's 0.15, 0.075, 0 and 0, in geomview's quarter scale), their first row is
+    one point on the pot's axis (a collapsed edge: degenerate points with finite limits), they face into the
+    pot as the body does, and they equal freeglut's published bottom to 1e-5 of Newell's units."""
     teapot = lab.models.teapot()
     assert len(teapot.faces) == 32 and teapot.problems == []
-    bottom = teapot.faces[28:]
-    body = [f.surface.control_points for f in teapot.faces[8:12]]
-    ring = np.concatenate([f.surface.control_points[-1] for f in bottom])
-    # the bottom's outer row is the body's lowest row (the pot is closed), its first row the centre
-    lowest = np.concatenate([P.reshape(-1, 3) for P in body])
-    assert all(np.min(np.linalg.norm(lowest - p, axis=1)) == 0 for p in ring)
-    assert all(np.all(f.surface.control_points[0] == f.surface.control_points[0, :1]) for f in bottom)
+    bottom = [f.surface.control_points for f in teapot.faces[28:]]
+    body = np.concatenate([f.surface.control_points.reshape(-1, 3) for f in teapot.faces[8:12]])
+    z0 = body[:, 2].min()
+    lowest = body[body[:, 2] == z0]  # the body's lowest ring
+    assert len(lowest) >= 12
+    for P in bottom:
+        ring = P[-1]  # the bottom's last row (in u) is the body's lowest ring, exactly
+        assert all(np.min(np.linalg.norm(lowest - p, axis=1)) == 0 for p in ring)
+        # rows at constant heights: the ring, Newell's 0.075 and 0 (twice) below it, in geomview's quarter scale
+        np.testing.assert_allclose(P[::-1, :, 2], np.broadcast_to((z0 - np.array([0, 0.075, 0.15, 0.15]) / 4)[:, None],
+                                                                  (4, 4)), rtol=0, atol=1e-6)
+        centre = P[0]
+        assert np.all(centre == centre[:1]) and np.allclose(centre[0, :2], [0.5, 0.0], atol=1e-12)
     with pytest.warns(lab.DegeneratePointWarning):
-        c = bottom[0].curvature(0.0, 0.5)
-    assert c.degenerate and np.isfinite(c.K)
+        c = teapot.faces[28].curvature(0.0, 0.5)
+    assert c.degenerate and np.isfinite(c.K) and np.isfinite(c.H)
+    # facing into the pot, as geomview's body does: normals with a part towards the axis, or up at the bottom
+    for k in range(4):
+        body_face, bottom_face = teapot.faces[8 + k], teapot.faces[28 + k]
+        p, n = body_face.surface.evaluate(0.5, 0.5), body_face.surface.normal(0.5, 0.5)
+        assert n[:2] @ (p[:2] - [0.5, 0.0]) < 0
+        assert bottom_face.surface.normal(0.5, 0.5)[2] > 0.9
+    # freeglut's bottom in the same scale: x = 0.5 + X/4, y = Y/4, z = z0 + (Z - 0.15)/4, as point sets
+    published = []
+    for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1)):
+        Q = FREEGLUT_BOTTOM * [sx, sy, 1]
+        published.append(np.sort(np.column_stack([0.5 + Q[..., 0].ravel() / 4, Q[..., 1].ravel() / 4,
+                                                  z0 + (Q[..., 2].ravel() - 0.15) / 4]), axis=0))
+    for P in bottom:
+        ours = np.sort(P.reshape(-1, 3), axis=0)
+        assert min(np.abs(ours - q).max() for q in published) <= 1e-5 / 4
 
 
 def test_geomview_bezier_files(tmp_path):
