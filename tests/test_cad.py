@@ -444,6 +444,23 @@ def test_bad_files_are_named_with_what_is_wrong(tmp_path):
 
 
 @needs_data
+def test_sewing_that_fails_is_said_and_the_files_own_edges_kept(monkeypatch):
+    from lab.interrogation.cad import occ as occ_module
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("no sewing today")
+
+    monkeypatch.setattr(occ_module, "sew_faces", broken)
+    model = lab.read(DATA / "iges" / "hammer.iges")
+    with pytest.warns(UserWarning, match="hammer.iges: sewing the faces failed .RuntimeError: no sewing today.; "
+                                         "model.edges holds only the edges the file itself shares"):
+        assert model.edges == [] and model.sewn is None
+    assert len(model.faces) == 45 and model.problems == []
+    with pytest.raises(TypeError, match="sew must be True, False or None .* got 'yes'"):
+        lab.read(DATA / "iges" / "hammer.iges", sew="yes")
+
+
+@needs_data
 def test_a_file_without_faces_is_refused():
     with pytest.raises(ValueError, match="edge.brep: the file holds no faces"):
         lab.read(DATA / "occ" / "edge.brep")

@@ -23,6 +23,7 @@ stay the file's (order, surfaces, parameters, loops and orientation), see :func:
 """
 
 import os
+import warnings
 
 import numpy as np
 
@@ -625,6 +626,8 @@ def read_occ(path, name=None, sew=None):
     from OCP.TopAbs import TopAbs_FACE
     from OCP.TopExp import TopExp
 
+    if sew not in (None, True, False):
+        raise TypeError(f"sew must be True, False or None (sew when the file's faces are not sewn); got {sew!r}")
     shape = occ_shape(path)
     face_map = _shape_map()
     TopExp.MapShapes_s(shape, TopAbs_FACE, face_map)  # the explorer's order, each face once
@@ -649,8 +652,12 @@ def read_occ(path, name=None, sew=None):
         if sewing is None:
             sewing = len(shapes) > 1 and _free_edges(_ancestors(shape)) > 0
         if sewing and len(shapes) > 1:
-            sewn, owner, tolerance = sew_faces(shape, shapes)
-            return _shared_edges(sewn, owner, domains), tolerance
+            try:
+                sewn, owner, tolerance = sew_faces(shape, shapes)
+                return _shared_edges(sewn, owner, domains), tolerance
+            except Exception as exc:  # noqa: BLE001 - OCCT raises Standard_Failure subclasses: say so, keep the file's edges
+                warnings.warn(f"{os.fspath(path)}: sewing the faces failed ({type(exc).__name__}: {exc}); "
+                              "model.edges holds only the edges the file itself shares", UserWarning, stacklevel=3)
         return _shared_edges(shape, lambda f: face_map.FindIndex(f) - 1, domains), None
 
     return Model(faces, find_edges, problems, path=os.fspath(path), name=name)
