@@ -177,7 +177,17 @@ def model_reports():
     return out
 
 
-def _occ_reference(model, edge):
+def _file_surfaces(path):
+    """The file's own surfaces (BRep_Tool.Surface of each face, in the reader's face order): the edges' (u, v)
+    are the file's parameters, so OpenCASCADE evaluates the file's geometry there, not the lab's NURBS."""
+    from OCP.BRep import BRep_Tool
+
+    from tests.occ_support import occ_faces
+
+    return [BRep_Tool.Surface_s(f) for f in occ_faces(path)]
+
+
+def _occ_reference(model, edge, surfaces):
     """At the edge's samples: OpenCASCADE's C0Value and G1Angle (LocalAnalysis_SurfaceContinuity on the two faces'
     surfaces at the edge's (u, v)), the angle between the faces' oriented normals and the jump of the normal
     curvature across the edge by Euler's formula from GeomLProp_SLProps's principal curvatures and directions."""
@@ -186,10 +196,8 @@ def _occ_reference(model, edge):
     from OCP.gp import gp_Dir
     from OCP.LocalAnalysis import LocalAnalysis_SurfaceContinuity
 
-    from tests.occ_support import occt_surface
-
     faces = [model.face(i) for i in edge.faces]
-    geoms = [occt_surface(f.surface) for f in faces]
+    geoms = [surfaces[i] for i in edge.faces]
     signs = [-1.0 if f.reversed else 1.0 for f in faces]
     rows = []
     for k in range(len(edge.t)):
@@ -222,15 +230,18 @@ def _occ_reference(model, edge):
 
 def test_model_edges_against_opencascade(model_reports):
     """Gap and folded angle equal LocalAnalysis_SurfaceContinuity's, the oriented angle and the curvature jump
-    GeomLProp_SLProps's, at every sample of every shared edge of shell1.brep and linkrods.step."""
-    checked, skipped, worst = 0, 0, {"occ/shell1.brep": 0.0, "step/linkrods.step": 0.0}
+    GeomLProp_SLProps's, at every sample of every shared edge of shell1.brep (sewn: its faces share no edges
+    in the file) and linkrods.step, OpenCASCADE evaluating the file's own surfaces at the edges' (u, v)."""
+    checked, skipped = 0, 0
+    worst = {"occ/shell1.brep": 0.0, "step/linkrods.step": 0.0, "analytic": 0.0}
     for name in ("occ/shell1.brep", "step/linkrods.step"):
         model, rep = model_reports[name]
         assert len(rep.edges) == len(model.edges)
         L = rep.size
+        surfaces = _file_surfaces(DATA / name)
         for edge, ours in zip(model.edges, rep.edges):
             assert ours.kind == "face edge" and ours.faces == edge.faces
-            c0, g1, angle, jump, kn = _occ_reference(model, edge)
+            c0, g1, angle, jump, kn = _occ_reference(model, edge, surfaces)
             done = np.isfinite(c0)
             skipped += np.count_nonzero(~done)
             ours_gap, ours_angle, ours_jump = ours.gap[done], ours.angle[done], ours.jump[done]
@@ -243,18 +254,27 @@ def test_model_edges_against_opencascade(model_reports):
             # relative to the curvature scale of the point (GeomLProp differentiates the same NURBS)
             relative = (np.abs(ours_jump - jump) / (kn + 1 / L))[ok]
             worst[name] = max(worst[name], relative.max(initial=0))
+            if any(model.face(i).kind != "BSplineSurface" for i in edge.faces):
+                worst["analytic"] = max(worst["analytic"], relative.max(initial=0))
             checked += np.count_nonzero(done)
     print(f"{checked} edge samples ({skipped} where OpenCASCADE is not done); largest relative G2 differences "
           f"{worst}")
     assert checked > 5000 and skipped < 0.01 * checked
-    # measured: 1.3e-9 on shell1's B-spline faces; 6.3e-5 on linkrods.step, whose analytic faces are rational
-    # NURBS (GeomConvert) and whose (u, v) come from projections: not explained yet, hence the loose bound
-    assert worst["occ/shell1.brep"] <= 1e-8 and worst["step/linkrods.step"] <= 2e-4
+    # measured: 1.3e-9 on shell1's B-spline faces; 2.3e-6 on linkrods.step's 67 edges with an analytic face
+    # (their (u, v) are the file's pcurves, no projection); 6.3e-5 at linkrods.step's B-spline|B-spline edges
+    # where the faces meet at 0.85 degrees, unchanged by the file's parameters (B-spline faces keep theirs):
+    # not explained yet (suspected: the reference takes the normal curvature across the 3-D edge tangent,
+    # which lies in neither tangent plane exactly), hence the loose bound there
+    assert worst["occ/shell1.brep"] <= 1e-8 and worst["analytic"] <= 1e-5 and worst["step/linkrods.step"] <= 2e-4
 
 
 def test_model_edges_known_sharp_and_tangent(model_reports):
     model, rep = model_reports["occ/wing.brep"]
-    assert model.edges == [] and rep.edges == [] and rep.achieved == "G2"  # its four faces are not sewn
+    # its four faces share no edges in the file: sewn (at 1e-6 of its size) they share six, two of them
+    # tangent (the leading edge), four creases (the trailing edges, whose faces' normals are 165 degrees apart)
+    assert model.sewn == pytest.approx(1e-6 * rep.size, rel=1e-6) and len(rep.edges) == 6
+    assert sorted(e.achieved for e in rep.edges) == ["G0"] * 4 + ["G1"] * 2
+    assert all(e.g1 < 1e-3 for e in rep.edges if e.achieved == "G1")
     model, rep = model_reports["step/linkrods.step"]
     sharp = [e for e in rep.edges if e.g1 > 45]
     assert len(sharp) == 6 and all(e.g1 == pytest.approx(90, abs=1e-6) for e in sharp)  # plane against cylinder

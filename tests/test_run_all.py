@@ -39,7 +39,7 @@ STATED = {
          lambda n, which: int(n) == 2 and which == "0.3, 0.6")],
     "11_real_part": [
         ("made of 32 bicubic Bézier patches", r"Model\((\d+) faces: (\d+) BezierSurface", lambda n, b: int(n) == int(b) == 32),
-        ("a sheet of 99 B-spline faces", r"Model\((\d+) faces: (\d+) BSplineSurface; \d+ shared edges from \S*shell1",
+        ("a sheet of 99 B-spline faces", r"Model\((\d+) faces: (\d+) BSplineSurface;[^)]* from \S*shell1",
          lambda n, b: int(n) == int(b) == 99)],
     "09_dill_gallery": [
         ("a crown with $K \\approx 0.01", r"crown\s+K = \+(\S+) 1/m²", lambda K: 0.005 <= float(K) < 0.015)],

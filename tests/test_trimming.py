@@ -340,3 +340,25 @@ def test_triangulation_areas_and_angles():
     right = T.Triangulation(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), np.array([[0, 1, 2]]))
     np.testing.assert_allclose(right.angles, [[90.0, 45.0, 45.0]], atol=1e-12)
     assert right.areas[0] == 0.5
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_loop_intersections_finds_every_crossing_pair(seed):
+    """The sweep over the segments' boxes (lab.trimming.loops._box_pairs, which replaced a k-d tree of midpoints:
+    one long segment made that pair every segment with every other) finds exactly the pairs a test of all pairs
+    finds, on random polylines that cross themselves often, with one segment across the whole box."""
+    from lab.interrogation.trimming import loops as L
+
+    rng = np.random.default_rng(seed)
+    P = rng.uniform(0, 1, size=(60, 2))
+    P[7], P[8] = (0.0, 0.5), (1.0, 0.52)  # a long, nearly horizontal segment
+    pairs, _ = T.loop_intersections(P, 1.0)
+    k = len(P)
+    A0, A1 = L._segments(P)
+    i, j = np.triu_indices(k, 1)
+    far = ~((j - i == 1) | ((i == 0) & (j == k - 1)))
+    hit, _ = L._intersect(A0[i[far]], A1[i[far]], A0[j[far]], A1[j[far]], L._eps(1.0))
+    reference = {(a, b) for a, b in zip(i[far][hit], j[far][hit])}
+    folds = {tuple(p) for p in pairs if p[1] - p[0] == 1 or (p[0] == 0 and p[1] == k - 1)}
+    assert {tuple(p) for p in pairs} - folds == reference and len(reference) > 20
+    np.testing.assert_array_equal(pairs, pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))])

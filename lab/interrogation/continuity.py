@@ -15,7 +15,8 @@ report it (OpenCASCADE's ``LocalAnalysis_SurfaceContinuity``, Rhino's EdgeContin
 Every value comes from exact one-sided limits: each side is a Bézier patch (a B-spline surface's knot
 spans, the patches of a collection) evaluated on its own border, so nothing is estimated by differences.
 A model's face edges (:func:`lab.read`) pair each face's surface at the edge's pcurve points, with the
-faces' orientations (the angle then runs from 0° to 180°) and the file's exact edge tangents.
+faces' orientations (the angle then runs from 0° to 180°; a sewn file's faces as sewing oriented them,
+``edge.reversed``) and the file's exact edge tangents.
 
 An edge *achieves* G0 when ``g0 <= tol_g0``, G1 when also ``g1 <= tol_g1`` and G2 when also
 ``g2 <= tol_g2 * (max |κn| on the edge + 1/size)``; otherwise ``"none"``.  The default tolerances
@@ -470,7 +471,7 @@ def _model_edges(model, tol, size):
     for index, items in wanted.items():
         face = model.face(index)
         uv = np.concatenate([uv for _n, _s, uv in items])
-        d = face.surface.derivatives(uv[:, 0], uv[:, 1])
+        d = getattr(face, "file_surface", face.surface).derivatives(uv[:, 0], uv[:, 1])  # edge uv: the file's
         start = 0
         for n, side, part in items:
             stop = start + len(part)
@@ -485,13 +486,20 @@ def _model_edges(model, tol, size):
         for side in (0, 1):
             ds = [derivs[n, side] for n in members]
             sides.append(Derivatives(*(np.stack([getattr(d, f) for d in ds]) for f in Derivatives._fields)))
-            signs.append(np.array([[-1.0 if model.face(edges[n].faces[side]).reversed else 1.0]
+            signs.append(np.array([[-1.0 if _reversed(model, edges[n], side) else 1.0]
                                    * len(edges[n].t) for n in members]))
         t = np.stack([_edge_tangents(edges[n]) for n in members])
         meta = [("face edge", None, None, tuple(edges[n].faces), None) for n in members]
         for n, edge in zip(members, _edges(meta, sides[0], sides[1], t, t, tol, size, signs)):
             out[n] = edge
     return out
+
+
+def _reversed(model, edge, side):
+    """The orientation of an edge's face: as the shell the edge was found in has it (a sewn file's faces are
+    oriented consistently by sewing), else the face's own."""
+    senses = getattr(edge, "reversed", None)
+    return bool(senses[side]) if senses is not None else model.face(edge.faces[side]).reversed
 
 
 def _edge_tangents(edge):

@@ -24,17 +24,18 @@ JOIN_RTOL = 0.15
 
 def is_face(obj):
     """Whether ``obj`` is a face of a model (a surface with trimming loops and an orientation), not a surface."""
-    return hasattr(obj, "surface") and hasattr(obj, "trim") and hasattr(obj, "reversed") and not hasattr(
-        obj, "derivatives")
+    from .cad.model import Face
+
+    return isinstance(obj, Face)
 
 
 def face_surface(face):
-    """The surface a face's (u, v) refer to: a view in the file's parameters where the face has one, else
-    ``face.surface`` (a :class:`lab.BSplineSurface` or :class:`lab.BezierSurface`).
+    """The surface a face's (u, v) refer to: ``face.file_surface``, the face's surface in the file's parameters
+    (the NURBS ``face.surface`` itself for B-spline faces, a :class:`lab.ReparametrizedSurface` over it for the
+    file's analytic faces).
 
-    The one place that says which surface a face is evaluated on (the file's analytic faces are to get such a
-    view; until then their (u, v) are those of OpenCASCADE's NURBS form)."""
-    return getattr(face, "view", None) or face.surface
+    The one place that says which surface a face is evaluated on."""
+    return getattr(face, "file_surface", None) or face.surface
 
 
 def as_surface(obj):

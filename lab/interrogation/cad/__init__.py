@@ -10,14 +10,15 @@ from .model import Edge, Face, Model, Problem
 __all__ = ["Edge", "Face", "Model", "Problem", "read", "write"]
 
 
-def write(obj, path):
-    """Write a model (untrimmed faces) or a lab surface as ``.brep``, ``.step`` or ``.3dm``: see :func:`.write.write`."""
-    from .write import write as _write
+def write(obj, path, *, drop_trims=False):
+    """Write a model (trimmed faces with their loops), a lab.TrimmedSurface or a lab surface as ``.brep``,
+    ``.step`` or ``.3dm``: see :func:`.writer.write`."""
+    from .writer import write as _write
 
-    return _write(obj, path)
+    return _write(obj, path, drop_trims=drop_trims)
 
 
-def read(path, *, name=None):
+def read(path, *, name=None, sew=None):
     """Read a part: STEP (``.step``, ``.stp``), IGES (``.iges``, ``.igs``), BREP (``.brep``) or geomview's Bézier
     files (``.bez``, ``.bbp``: ``BEZuvn``, ``BBP``, ``CBEZuvn``, rational ``BEZuv4``, pure Python) or Rhino
     (``.3dm``, through rhino3dm).
@@ -27,6 +28,11 @@ def read(path, *, name=None):
     path : str or os.PathLike
     name : str, optional
         A name for pictures and tables (default: the file's name).
+    sew : bool or None
+        STEP, IGES and BREP files: find the edges that faces share by sewing them (``BRepBuilderAPI_Sewing``):
+        ``None`` (default) when the file's faces have free edges (an IGES file's usually do), ``True``
+        always, ``False`` never.  Sewing only finds edges; the faces stay the file's.  See
+        :func:`lab.interrogation.cad.occ.read_occ`.
 
     Returns
     -------
@@ -55,7 +61,7 @@ def read(path, *, name=None):
     if ext in EXTENSIONS:
         from .occ import read_occ
 
-        return read_occ(path, name=name)
+        return read_occ(path, name=name, sew=sew)
     if ext in (".bez", ".bbp"):
         from .geomview import read_geomview
 

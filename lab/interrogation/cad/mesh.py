@@ -31,7 +31,7 @@ def _vertex_normals(points, tri):
         return out / np.linalg.norm(out, axis=1, keepdims=True)
 
 
-def _triangulate(trim, n_u, n_v, min_angle):
+def _triangulate(trim, n_u, n_v, min_angle, memory_limit=None):
     """The trimmed region triangulated in its loops' bounding box mapped to the unit square, then mapped back.
 
     A CAD face covers part of its surface's domain, and its parameters may be stretched (0..1 across a blade,
@@ -43,7 +43,8 @@ def _triangulate(trim, n_u, n_v, min_angle):
     lo, hi = X.min(axis=0), X.max(axis=0)
     size = np.where(hi > lo, hi - lo, 1.0)
     outer, *holes = [(L - lo) / size for L in trim.loops]
-    uv, tri = triangulate(outer, holes, ((0.0, 1.0), (0.0, 1.0)), n_u, n_v, min_angle=min_angle)
+    uv, tri = triangulate(outer, holes, ((0.0, 1.0), (0.0, 1.0)), n_u, n_v, min_angle=min_angle,
+                          memory_limit=memory_limit)
     (u0, u1), (v0, v1) = trim.domain
     uv = lo + uv * size
     return np.column_stack([np.clip(uv[:, 0], u0, u1), np.clip(uv[:, 1], v0, v1)]), tri
@@ -56,13 +57,16 @@ def face_arrays(face, n_u=16, n_v=16, min_angle=None, memory_limit=None):
     -------
     points : (k, 3) ndarray
     triangles : (t, 3) int ndarray, oriented by the face's normal
-    data : dict of ``K, H, k1, k2, degenerate, N, uv``
+    data : dict of ``K, H, k1, k2, degenerate, N, uv`` (``uv`` in the file's parameters)
     """
+    surface = getattr(face, "file_surface", face.surface)  # the file's (u, v): the loops' and the mesh's "uv"
     if face.trim is None:
-        uv, tri = _grid(face.surface.domain, n_u, n_v)
+        uv, tri = _grid(surface.domain, n_u, n_v)
     else:
-        uv, tri = _triangulate(face.trim, n_u, n_v, min_angle)
-    b, N, c = face.surface.sample_points(uv[:, 0], uv[:, 1], memory_limit=memory_limit)
+        uv, tri = _triangulate(face.trim, n_u, n_v, min_angle, memory_limit)
+    # point by point, also on a grid: a 16 x 16 grid over many knot spans is cut into as many blocks as pairs of
+    # spans, which costs more than the grouped point evaluation (measured on the impeller: 6.6 ms against 1.5 ms)
+    b, N, c = surface.sample_points(uv[:, 0], uv[:, 1], memory_limit=memory_limit)
     if face.reversed:
         c, N, tri = flip(c), -N, tri[:, ::-1]
     missing = ~np.all(np.isfinite(N), axis=1)

@@ -35,6 +35,11 @@ class Edge(NamedTuple):
     (in that face's parameters), so that both surfaces can be evaluated along the edge.
     ``t`` : (k,) ndarray, parameters of the 3-D edge curve.
     ``tangents`` : (k, 3) ndarray or None, the 3-D edge curve's derivative at ``t`` (exact, from the file's curve).
+    ``tolerance`` : float or None, the file's tolerance of the edge (``BRep_Tool.Tolerance``): how far the
+    faces' surfaces at ``uv`` may lie from ``points``.
+    ``reversed`` : (bool, bool) or None, the two faces' orientations in the shell the edge was found in: the
+    faces' own (``Face.reversed``) unless the faces were sewn, where sewing orients the faces of a shell
+    consistently (an IGES file's faces carry no orientation of their own; :func:`lab.continuity` uses these).
     """
 
     index: int
@@ -43,10 +48,12 @@ class Edge(NamedTuple):
     uv: tuple
     t: np.ndarray
     tangents: object = None
+    tolerance: object = None
+    reversed: object = None
 
 
 class Face:
-    """One face of a model: a NURBS surface in the file's parameters, its trimming loops and its orientation.
+    """One face of a model: its surface in the file's parameters, its trimming loops and its orientation.
 
     Attributes
     ----------
@@ -56,45 +63,74 @@ class Face:
         What the file stores: ``"BSplineSurface"``, ``"Plane"``, ``"Cylinder"``, ``"Cone"``, ``"Sphere"``,
         ``"Torus"``, ``"SurfaceOfRevolution"``, ``"SurfaceOfExtrusion"``, ``"OffsetSurface"``, ``"BezierSurface"``.
     surface : lab.BSplineSurface or lab.BezierSurface
-        B-spline faces keep the file's poles, knots, weights and parameters;
-        analytic faces are OpenCASCADE's exact NURBS form (``GeomConvert``), in its parameters.
+        The face's surface as NURBS: B-spline faces keep the file's poles, knots, weights and parameters;
+        analytic faces are OpenCASCADE's exact NURBS form (``GeomConvert``), which runs in its own
+        parameters (a circle's angle becomes a rational parameter).
+    file_surface : lab.Surface
+        The same surface in the file's parameters: ``surface`` itself where the parameters agree, else a
+        :class:`lab.ReparametrizedSurface` over it (exact maps per direction, ``maps``).  :meth:`curvature`,
+        :meth:`evaluate`, :attr:`trim`, ``model.edges[i].uv`` and meshes use it.
+    maps : (ParameterMap, ParameterMap) or None
+        The maps from the file's u and v to the NURBS's (None: the identity).
     trim : lab.trimming.TrimmedSurface or None
-        The face's loops, outer first, in the surface's parameters; ``None`` for an untrimmed patch.
+        The face's loops, outer first, in the file's (u, v) (on :attr:`file_surface`); ``None`` for an
+        untrimmed patch.
     reversed : bool
-        The face's normal is ``-(b_u x b_v)`` (``TopAbs_REVERSED``): :meth:`curvature` flips H, k1, k2.
+        The face's normal is ``-(x_u x x_v)`` (``TopAbs_REVERSED``): :meth:`curvature` flips H, k1, k2.
+    domain : ((float, float), (float, float))
+        The file's (u, v) bounds of the face (``BRepTools.UVBounds_s``, within the surface's domain).
+    exact : bool
+        False where the NURBS is an approximation (an offset of a B-spline surface): ``deviation`` says
+        how far it lies from the file's surface at 25 sample points (in the file's length unit).
     """
 
-    def __init__(self, index, kind, surface, trim=None, reversed=False, name=None):
+    def __init__(self, index, kind, surface, trim=None, reversed=False, name=None, *, file_surface=None,
+                 domain=None, maps=None, exact=True, deviation=0.0):
         self.index = int(index)
         self.kind = str(kind)
         self.surface = surface
+        self.file_surface = surface if file_surface is None else file_surface
+        self.maps = maps
         self.trim = trim
         self.reversed = bool(reversed)
         self.name = name
+        self._domain = None if domain is None else tuple(tuple(float(x) for x in pair) for pair in domain)
+        self.exact = bool(exact)
+        self.deviation = float(deviation)
 
     @property
     def domain(self):
-        """The surface's parameter domain ``((u0, u1), (v0, v1))``."""
-        return self.surface.domain
+        """The file's (u, v) bounds of the face ``((u0, u1), (v0, v1))`` (the surface's domain if not given)."""
+        return self.file_surface.domain if self._domain is None else self._domain
 
-    def curvature(self, u, v):
-        """K, H, k1, k2 (k1 >= k2) and ``degenerate`` at ``(u, v)`` with the face's normal.
+    def evaluate(self, u, v):
+        """Points of the face's surface at the file's ``(u, v)``, shape ``broadcast(u, v).shape + (3,)``."""
+        return self.file_surface.evaluate(u, v)
 
-        On a reversed face the normal is ``-(b_u x b_v)``: K stays, H changes
-        sign and the principal curvatures change sign and order.
+    def derivatives(self, u, v):
+        """Point and partial derivatives ``b, bu, bv, buu, buv, bvv`` with respect to the file's ``(u, v)``."""
+        return self.file_surface.derivatives(u, v)
+
+    def curvature(self, u, v, *, directions=False):
+        """K, H, k1, k2 (k1 >= k2) and ``degenerate`` at the file's ``(u, v)`` with the face's normal.
+
+        On a reversed face the normal is ``-(x_u x x_v)``: K stays, H changes sign and the principal
+        curvatures change sign and order (with ``directions=True`` also ``d1`` and ``d2``, see
+        :meth:`lab.Surface.curvature`).
         """
-        c = self.surface.curvature(u, v)
+        c = self.file_surface.curvature(u, v, directions=directions)
         return flip(c) if self.reversed else c
 
     def normal(self, u, v):
-        """The face's unit normal at ``(u, v)`` (``-(b_u x b_v)/|b_u x b_v|`` on a reversed face)."""
-        N = self.surface.normal(u, v)
+        """The face's unit normal at the file's ``(u, v)`` (``-(x_u x x_v)/|x_u x x_v|`` on a reversed face)."""
+        N = self.file_surface.normal(u, v)
         return -N if self.reversed else N
 
     def __repr__(self):
         side = ", reversed" if self.reversed else ""
         trim = "" if self.trim is None else f", {len(self.trim.loops)} loops"
-        return f"Face({self.index}, {self.kind}, {self.surface!r}{trim}{side})"
+        approx = "" if self.exact else f", approximate ({self.deviation:.2g})"
+        return f"Face({self.index}, {self.kind}, {self.surface!r}{trim}{side}{approx})"
 
 
 class Model:
@@ -106,18 +142,43 @@ class Model:
         In the file's face order; a face that could not be converted is
         missing here and listed in :attr:`problems` with its index and kind.
     edges : list of Edge
-        Edges shared by two faces (or a seam of one), with both faces' pcurves.
+        Edges shared by two faces, with both faces' pcurves in the file's parameters.  A reader may pass
+        a function that finds them instead of the list: they are then found when first used (sewing an
+        IGES file's faces takes longer than reading it; a mesh does not need the edges).
     problems : list of Problem
     path : str or None
         The file read.
+    sewn : float or None
+        The tolerance the file's faces were sewn with to find the shared edges (None: not sewn), known
+        once :attr:`edges` is.
     """
 
     def __init__(self, faces, edges=(), problems=(), path=None, name=None):
         self.faces = list(faces)
-        self.edges = list(edges)
+        self._edges = edges if callable(edges) else list(edges)
         self.problems = list(problems)
         self.path = None if path is None else str(path)
         self.name = name
+        self.sewn = None
+
+    @property
+    def edges(self):
+        """The edges two faces share (found on first use if the reader deferred them)."""
+        if callable(self._edges):
+            found = self._edges()
+            self._edges, self.sewn = (found, None) if isinstance(found, list) else (list(found[0]), found[1])
+        return self._edges
+
+    @edges.setter
+    def edges(self, value):
+        self._edges = list(value)
+
+    def __getstate__(self):
+        """A model pickles as plain arrays: deferred edges are found first (the finder holds OpenCASCADE shapes)."""
+        state = dict(self.__dict__)
+        state["_edges"] = self.edges
+        state["sewn"] = self.sewn
+        return state
 
     def __len__(self):
         return len(self.faces)
@@ -166,5 +227,7 @@ class Model:
         kinds = ", ".join(f"{n} {k}" for k, n in sorted(self.kinds().items()))
         bad = _(", {n} problems").format(n=len(self.problems)) if self.problems else ""
         where = _(" from {path}").format(path=self.path) if self.path else ""
-        return _("Model({n} faces: {kinds}; {edges} shared edges{problems}{where})").format(
-            n=len(self.faces), kinds=kinds, edges=len(self.edges), problems=bad, where=where)
+        edges = (_("shared edges found on first use") if callable(self._edges)
+                 else _("{n} shared edges").format(n=len(self._edges)))
+        return _("Model({n} faces: {kinds}; {edges}{problems}{where})").format(
+            n=len(self.faces), kinds=kinds, edges=edges, problems=bad, where=where)

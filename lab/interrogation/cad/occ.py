@@ -1,29 +1,62 @@
 """STEP, IGES and BREP files through OpenCASCADE (``cadquery-ocp-novtk``, the lab's extra ``cad``).
 
 Only :func:`read_occ` imports ``OCP``, and only when it is called, so ``import lab`` stays free of it.
-A face's surface becomes a :class:`lab.BSplineSurface` with the file's poles,
-weights and knots (periodic surfaces get their clamped, non-periodic form,
-same parameters); analytic faces (plane, cylinder, cone, sphere, torus,
-revolution, extrusion, offset) are converted by ``BRepBuilderAPI_NurbsConvert``,
-which also rewrites their pcurves, so that loops and surface stay consistent.
+
+**Parameters stay those of the file.**  A B-spline face's surface becomes a :class:`lab.BSplineSurface`
+with the file's poles, weights, knots and parameters (a periodic surface gets its clamped, non-periodic
+form with the same parameters).  An analytic face (plane, cylinder, cone, sphere, torus, revolution,
+extrusion, offset, Bézier) is converted exactly to NURBS as ``BRepBuilderAPI_NurbsConvert`` would convert
+it (``GeomConvert::SurfaceToBSplineSurface`` of the surface cut to the face's (u, v) bounds), but its
+pcurves are not rewritten: the face keeps the file's (u, v) through one exact map per direction from the
+file's parameter to the NURBS's (:mod:`lab.geometry.parameter_maps`: identity for lines, a
+tan-half-angle relation per span for circle arcs), found by trying the few maps OpenCASCADE's conversions
+produce and accepting the one whose NURBS reproduces the file's surface at 25 points to 1e-9 of the face's
+size.  ``face.file_surface`` (a :class:`lab.ReparametrizedSurface` over the NURBS) evaluates in the file's
+parameters, so the trimming loops, the shared edges' (u, v) and ``face.curvature`` are read straight from
+the file's pcurves.  Where no exact map exists (an offset of a B-spline surface, whose NURBS OpenCASCADE
+can only approximate), the NURBS is OpenCASCADE's approximation over the same parameters; the face says so
+(``face.exact`` False, ``face.deviation`` measured).
+
+**Shared edges and sewing.**  A file whose faces are not sewn (IGES files usually: each face has its own
+edges) is sewn with ``BRepBuilderAPI_Sewing`` only to *find* the edges two faces share; the model's faces
+stay the file's (order, surfaces, parameters, loops and orientation), see :func:`read_occ`.
 """
 
 import os
+import warnings
 
 import numpy as np
 
-from ...model.surface import BSplineSurface
+from ...geometry.parameter_maps import ParameterMap, circle_spans
+from ...model.surface import BSplineSurface, ReparametrizedSurface
 from ..trimming import trimmed
 from ..trimming.loops import signed_area
+from .curves import curve2d_values, curve3d_values, pcurve_points
 from .model import Edge, Face, Model, Problem
 
-__all__ = ["EXTENSIONS", "occ_shape", "read_occ", "require_ocp"]
+__all__ = ["EXTENSIONS", "lab_surface", "occ_shape", "read_occ", "require_ocp", "sew_faces"]
 
 #: File name endings read through OpenCASCADE.
 EXTENSIONS = {".step": "STEP", ".stp": "STEP", ".iges": "IGES", ".igs": "IGES", ".brep": "BREP", ".brp": "BREP"}
 
-#: Samples per pcurve that is not a straight line (a line gets its two ends).
+#: Samples per shared edge (the 3-D curve and both pcurves at the same parameters).
 PCURVE_SAMPLES = 24
+
+#: Chordal tolerance of a trimming loop's polyline: this fraction of the smaller side of its face's (u, v) box
+#: (:func:`lab.interrogation.cad.curves.pcurve_points`; a line is its two ends).
+PCURVE_RTOL = 1e-3
+
+#: A parameter map is accepted when the NURBS at the mapped parameters is the file's surface to this
+#: fraction of the face's size (measured: 1e-15 for the exact maps, 1e-3 and more for a wrong one).
+MAP_RTOL = 1e-9
+
+#: Tolerance of the NURBS approximation of a face without an exact NURBS form (an offset of a B-spline
+#: surface), relative to the face's size.
+APPROX_RTOL = 1e-10
+
+#: Sewing tolerance, relative to the part's size (bounding-box diagonal), unless the shape's own tolerances
+#: are larger (see :func:`read_occ`).
+SEW_RTOL = 1e-6
 
 _KINDS = ("Plane", "Cylinder", "Cone", "Sphere", "Torus", "BezierSurface", "BSplineSurface",
           "SurfaceOfRevolution", "SurfaceOfExtrusion", "OffsetSurface", "OtherSurface")
@@ -91,16 +124,22 @@ def _kind(surface):
     return name.removeprefix("GeomAbs_")
 
 
-def _weights(bs):
-    """The weights as an ``Array2_double`` and an ndarray, read one by one.
+def _weight_values(bs):
+    """The weights as an ndarray, read one by one.
 
     ``Geom_BSplineSurface.Weights()`` must not be called from Python: OCP hands
     out the surface's own array as a pointer it then frees (a double free).
     """
+    nu, nv = bs.NbUPoles(), bs.NbVPoles()
+    return np.array([[bs.Weight(i, j) for j in range(1, nv + 1)] for i in range(1, nu + 1)])
+
+
+def _weights(bs):
+    """The weights as an ``Array2_double`` (to build a copy of the surface) and an ndarray."""
     from OCP.OCP.collections import Array2_double
 
-    nu, nv = bs.NbUPoles(), bs.NbVPoles()
-    w = np.array([[bs.Weight(i + 1, j + 1) for j in range(nv)] for i in range(nu)])
+    w = _weight_values(bs)
+    nu, nv = w.shape
     W = Array2_double(1, nu, 1, nv)
     for i in range(nu):
         for j in range(nv):
@@ -108,38 +147,13 @@ def _weights(bs):
     return W, w
 
 
-def _bspline(face):
-    """The face's ``Geom_BSplineSurface`` (a non-periodic copy if periodic: same parameters), or None."""
-    from OCP.BRep import BRep_Tool
-    from OCP.Geom import Geom_BSplineSurface
-    from OCP.GeomAdaptor import GeomAdaptor_Surface
-
-    adaptor = GeomAdaptor_Surface(BRep_Tool.Surface_s(face))
-    if adaptor.GetType().name != "GeomAbs_BSplineSurface":
-        return None
-    bs = adaptor.BSpline()
-    if bs.IsUPeriodic() or bs.IsVPeriodic():
-        copy = Geom_BSplineSurface(bs.Poles(), _weights(bs)[0], bs.UKnots(), bs.VKnots(), bs.UMultiplicities(),
-                                   bs.VMultiplicities(), bs.UDegree(), bs.VDegree(), bs.IsUPeriodic(),
-                                   bs.IsVPeriodic())
-        if copy.IsUPeriodic():
-            copy.SetUNotPeriodic()
-        if copy.IsVPeriodic():
-            copy.SetVNotPeriodic()
-        bs = copy
-    return bs
-
-
 def lab_surface(bs):
     """A :class:`lab.BSplineSurface` with the poles, weights, knots and degrees of a ``Geom_BSplineSurface``."""
     nu, nv = bs.NbUPoles(), bs.NbVPoles()
     poles = bs.Poles()
-    P = np.empty((nu, nv, 3))
-    for i in range(nu):
-        for j in range(nv):
-            p = poles.Value(i + 1, j + 1)
-            P[i, j] = p.X(), p.Y(), p.Z()
-    weights = _weights(bs)[1] if (bs.IsURational() or bs.IsVRational()) else None
+    P = np.array([[(q.X(), q.Y(), q.Z()) for q in (poles.Value(i, j) for j in range(1, nv + 1))]
+                  for i in range(1, nu + 1)], dtype=float).reshape(nu, nv, 3)
+    weights = _weight_values(bs) if (bs.IsURational() or bs.IsVRational()) else None
     ku, kv = bs.UKnotSequence(), bs.VKnotSequence()
     knots_u = np.array([ku.Value(k) for k in range(ku.Lower(), ku.Upper() + 1)])
     knots_v = np.array([kv.Value(k) for k in range(kv.Lower(), kv.Upper() + 1)])
@@ -167,33 +181,222 @@ def _shape_map(data=False):
                        else "IndexedMap_TopoDS_Shape_TopTools_ShapeMapHasher")()
 
 
-def _pcurve(edge, face, n=PCURVE_SAMPLES):
-    """``(t, uv (k, 2))`` of the edge's pcurve on the face, in the edge's direction within the face's wire."""
+# -- a face's surface in the file's parameters ------------------------------------------------------------
+
+
+def _conversion_bounds(face, surface):
+    """The face's (u, v) bounds in the file and as ``BRepTools_NurbsConvertModification::NewSurface`` converts.
+
+    ``BRepTools.UVBounds_s`` (the pcurves' box), moved onto the surface's own bounds where within a tenth of
+    the face's tolerance and cut to them in a direction that is not periodic (a sphere's latitude never
+    passes its pole): the file's domain.  The conversion takes at most one period of a periodic direction
+    (a thread's face winds round its cylinder more than once; its NURBS covers one turn).
+    """
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepTools import BRepTools
+    from OCP.GeomAdaptor import GeomAdaptor_Surface
+
+    u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+    if not all(abs(x) < 1e50 for x in (u0, u1, v0, v1)):  # OpenCASCADE's "infinite" is 1e100
+        raise ValueError(f"the face's (u, v) bounds are not finite ({u0:.3g}..{u1:.3g} x {v0:.3g}..{v1:.3g}): "
+                         "its edges have no pcurves on its surface")
+    adaptor = GeomAdaptor_Surface(surface)
+    snap = 0.1 * BRep_Tool.Tolerance_s(face)
+    file, conversion = [], []
+    for (a, b), (lo, hi), periodic, period in (
+            ((u0, u1), (adaptor.FirstUParameter(), adaptor.LastUParameter()), surface.IsUPeriodic(),
+             surface.UPeriod() if surface.IsUPeriodic() else None),
+            ((v0, v1), (adaptor.FirstVParameter(), adaptor.LastVParameter()), surface.IsVPeriodic(),
+             surface.VPeriod() if surface.IsVPeriodic() else None)):
+        a = lo if abs(a - lo) <= snap else a
+        b = hi if abs(b - hi) <= snap else b
+        if not periodic:
+            a, b = max(a, lo), min(b, hi)
+        if not b > a:
+            raise ValueError(f"the face's (u, v) bounds are empty: [{a:g}, {b:g}]")
+        file.append((float(a), float(b)))
+        conversion.append((float(a), float(min(b, a + period)) if periodic else float(b)))
+    return tuple(file), tuple(conversion)
+
+
+def _clamped(bs):
+    """A non-periodic copy of a periodic ``Geom_BSplineSurface`` (same parameters), else ``bs`` itself."""
+    from OCP.Geom import Geom_BSplineSurface
+
+    if not (bs.IsUPeriodic() or bs.IsVPeriodic()):
+        return bs
+    copy = Geom_BSplineSurface(bs.Poles(), _weights(bs)[0], bs.UKnots(), bs.VKnots(), bs.UMultiplicities(),
+                               bs.VMultiplicities(), bs.UDegree(), bs.VDegree(), bs.IsUPeriodic(),
+                               bs.IsVPeriodic())
+    if copy.IsUPeriodic():
+        copy.SetUNotPeriodic()
+    if copy.IsVPeriodic():
+        copy.SetVNotPeriodic()
+    return copy
+
+
+def _map_candidates(file_range, knots, degree, period=0.0):
+    """The maps OpenCASCADE's conversions give a direction with the file's range ``(a, b)``, likeliest first.
+
+    ``knots`` and ``degree`` are the NURBS's in that direction; ``period`` is given when the NURBS covers a
+    whole period of a periodic direction (then the angles wrap into it, see :class:`ParameterMap`).
+    Identity (lines, B-spline and Bézier faces, parabolas); circle arcs from the first knot with
+    ``Convert_TgtThetaOver2``'s equal spans, or a periodic circle's three spans from angle 0
+    (``CheckAndSegment`` may start the NURBS inside one of them), in both cases a whole number of periods
+    after the file's angle; an affine map (a Bézier curve cut to the range); a hyperbola's one span.
+    """
+    a, b = file_range
+    s0, s1 = _bs_domain(knots, degree)
+    scale = max(1.0, abs(a), abs(b))
+    same = abs(s0 - a) <= 1e-12 * scale and abs(s1 - b) <= 1e-12 * scale
+    out = [ParameterMap.identity()] if same and not period else []
+    turns = round((s0 - a) / (2 * np.pi))
+    if period or abs(s0 - a - 2 * np.pi * turns) <= 1e-9 * scale:
+        _, h = circle_spans(s1 - s0)
+        for origin, half in ((s0, h), (0.0, np.pi / 3)):
+            if 0 < half < np.pi / 2:
+                out.append(ParameterMap.circle(origin, half, 2 * np.pi * turns, knots, degree, period))
+    if not period:
+        out.append(ParameterMap.affine(s0 - a * (s1 - s0) / (b - a), (s1 - s0) / (b - a)))
+        if same:
+            out.append(ParameterMap.hyperbola(a, b))
+    return out
+
+
+def _bs_domain(knots, degree):
+    n = len(knots) - degree - 1
+    return float(knots[degree]), float(knots[n])
+
+
+def _find_maps(surface, nurbs, domain, periods=(0.0, 0.0), candidates=None):
+    """The first pair of candidate maps under which ``nurbs`` reproduces the file's ``surface`` (a Geom_Surface).
+
+    Checked at 5 x 5 parameters of the file's domain (ends included); returns ``(map_u, map_v, deviation)``
+    with the largest distance found, or the best pair with its (too large) deviation.  ``candidates``: the
+    maps to try in u and in v (default :func:`_map_candidates`).
+    """
+    (u0, u1), (v0, v1) = domain
+    f = np.array([0.0, 0.173, 0.5, 0.757, 1.0])
+    u, v = np.meshgrid(u0 + (u1 - u0) * f, v0 + (v1 - v0) * f, indexing="ij")
+    u, v = u.ravel(), v.ravel()
+    ref = np.array([[p.X(), p.Y(), p.Z()] for p in (surface.Value(float(a), float(b)) for a, b in zip(u, v))])
+    (s_lo, s_hi), (t_lo, t_hi) = nurbs.domain
+    tol = MAP_RTOL * _size(nurbs)
+    if candidates is None:
+        candidates = (_map_candidates((u0, u1), nurbs.knots_u, nurbs.degree[0], periods[0]),
+                      _map_candidates((v0, v1), nurbs.knots_v, nurbs.degree[1], periods[1]))
+
+    def deviation(mu, mv, rows=slice(None)):
+        s = np.clip(mu(u[rows])[0], s_lo, s_hi) if mu is not None else np.full(u[rows].shape, s_lo)
+        t = np.clip(mv(v[rows])[0], t_lo, t_hi) if mv is not None else np.full(v[rows].shape, t_lo)
+        return float(np.linalg.norm(nurbs._derivatives(s, t).b - ref[rows], axis=1).max())
+
+    # every candidate takes the file's first parameter to the NURBS's first (usually): each direction's map
+    # chosen along the other's first line, then the pair checked on the whole grid; else every pair
+    guess = [next((m for m in candidates[0] if deviation(m, None, slice(0, None, 5)) <= tol), None),
+             next((m for m in candidates[1] if deviation(None, m, slice(0, 5)) <= tol), None)]
+    if None not in guess:
+        err = deviation(*guess)
+        if err <= tol:
+            return guess[0], guess[1], err
+    best = (None, None, np.inf)
+    for mu in candidates[0]:
+        for mv in candidates[1]:
+            err = deviation(mu, mv)
+            if err < best[2]:
+                best = (mu, mv, err)
+            if err <= tol:
+                return best
+    return best
+
+
+def _size(surface):
+    P = surface.control_points.reshape(-1, 3)
+    return float(np.linalg.norm(np.ptp(P, axis=0))) or 1.0
+
+
+def _nurbs(face, kind):
+    """The face's surface as a NURBS, the maps from the file's (u, v) to its parameters and the file's domain.
+
+    Returns ``(nurbs, maps, domain, exact, deviation)``: ``maps`` is None for a B-spline face (its NURBS
+    is the file's surface, parameters and all).
+    """
+    from OCP.BRep import BRep_Tool
+    from OCP.Geom import Geom_RectangularTrimmedSurface
+    from OCP.GeomAdaptor import GeomAdaptor_Surface
+    from OCP.GeomConvert import GeomConvert
+
+    surface = BRep_Tool.Surface_s(face)  # with the face's location applied
+    adaptor = GeomAdaptor_Surface(surface)
+    if kind == "BSplineSurface":
+        nurbs = lab_surface(_clamped(adaptor.BSpline()))
+        return nurbs, None, nurbs.domain, True, 0.0
+    if kind == "BezierSurface":  # the whole patch: knots 0 and 1, the Bézier parameters
+        nurbs = lab_surface(GeomConvert.SurfaceToBSplineSurface_s(adaptor.Bezier()))
+        return nurbs, None, nurbs.domain, True, 0.0
+    domain, ((u0, u1), (v0, v1)) = _conversion_bounds(face, surface)
+    trimmed_surface = Geom_RectangularTrimmedSurface(surface, u0, u1, v0, v1)
+    nurbs = lab_surface(_clamped(GeomConvert.SurfaceToBSplineSurface_s(trimmed_surface)))
+    # a whole period converted (a closed face, or a thread's that winds round more than once): angles wrap
+    periods = tuple(p() if periodic() and hi - lo >= p() - 1e-9 else 0.0
+                    for p, periodic, (lo, hi) in ((surface.UPeriod, surface.IsUPeriodic, (u0, u1)),
+                                                  (surface.VPeriod, surface.IsVPeriodic, (v0, v1))))
+    map_u, map_v, deviation = _find_maps(surface, nurbs, domain, periods)
+    size = _size(nurbs)
+    if deviation <= MAP_RTOL * size:
+        return nurbs, (map_u, map_v), domain, True, deviation
+    if kind in ("OffsetSurface", "OtherSurface"):
+        # no exact NURBS form (an offset of a B-spline surface): GeomConvert approximates it to 1e-4 in the
+        # file's unit; approximated here over the same parameters to APPROX_RTOL of the face's size instead
+        nurbs, deviation = _approximation(trimmed_surface, surface, domain, size)
+        return nurbs, (ParameterMap.identity(), ParameterMap.identity()), domain, False, deviation
+    raise ValueError(f"no parameter map makes OpenCASCADE's NURBS form of this {kind} reproduce the file's "
+                     f"surface: the best deviates by {deviation:.3g} (face size {size:.3g})")
+
+
+def _approximation(trimmed_surface, surface, domain, size):
+    """A NURBS approximation over the file's parameters (``GeomConvert_ApproxSurface``) and its deviation.
+
+    Degrees up to 14 and 200 spans, C2, to :data:`APPROX_RTOL` of the face's size (an offset of a bicubic
+    B-spline surface of size 10: 0.01 s, 12 x 39 poles, points within 5e-12 and K, H within 3e-10 of
+    OpenCASCADE's); the deviation is measured at the 25 points that check a parameter map.
+    """
+    from OCP.GeomAbs import GeomAbs_Shape
+    from OCP.GeomConvert import GeomConvert_ApproxSurface
+
+    approx = GeomConvert_ApproxSurface(trimmed_surface, APPROX_RTOL * size, GeomAbs_Shape.GeomAbs_C2,
+                                       GeomAbs_Shape.GeomAbs_C2, 14, 14, 200, 1)
+    if not approx.HasResult():
+        raise ValueError("GeomConvert_ApproxSurface found no NURBS approximation of the face's surface")
+    nurbs = lab_surface(_clamped(approx.Surface()))
+    identity = [ParameterMap.identity()]
+    _, _, deviation = _find_maps(surface, nurbs, domain, candidates=(identity, identity))
+    return nurbs, deviation
+
+
+def _file_surface(nurbs, maps, domain, kind):
+    """The NURBS itself (B-spline faces) or a :class:`ReparametrizedSurface` in the file's parameters."""
+    if maps is None:
+        return nurbs
+    return ReparametrizedSurface(nurbs, maps[0], maps[1], domain, name=f"{kind} in the file's parameters")
+
+
+# -- trimming loops ------------------------------------------------------------------------------------
+
+
+def _loops(face, box):
+    """The face's wires as (u, v) polylines in the file's parameters, outer first, each closed implicitly.
+
+    Each pcurve within :data:`PCURVE_RTOL` of the smaller side of the face's (u, v) box ``box``, in the
+    wire's order and sense (an edge reversed in its wire runs its pcurve backwards).
+    """
     from OCP.BRepAdaptor import BRepAdaptor_Curve2d
-    from OCP.TopAbs import TopAbs_REVERSED
-
-    c2d = BRepAdaptor_Curve2d(edge, face)
-    line = c2d.GetType().name == "GeomAbs_Line"
-    t = np.linspace(c2d.FirstParameter(), c2d.LastParameter(), 2 if line else n)
-    if edge.Orientation() == TopAbs_REVERSED:
-        t = t[::-1]
-    return t, _values2d(c2d, t)
-
-
-def _values2d(c2d, t):
-    uv = np.empty((len(t), 2))
-    for k, x in enumerate(t):
-        p = c2d.Value(float(x))
-        uv[k] = p.X(), p.Y()
-    return uv
-
-
-def _loops(face):
-    """The face's wires as (u, v) polylines, outer first, each closed implicitly."""
     from OCP.BRepTools import BRepTools, BRepTools_WireExplorer
-    from OCP.TopAbs import TopAbs_WIRE
+    from OCP.TopAbs import TopAbs_REVERSED, TopAbs_WIRE
     from OCP.TopExp import TopExp_Explorer
 
+    (u0, u1), (v0, v1) = box
+    deflection = PCURVE_RTOL * min(u1 - u0, v1 - v0)
     outer = BRepTools.OuterWire_s(face)
     wires = []
     explorer = TopExp_Explorer(face, TopAbs_WIRE)
@@ -206,24 +409,13 @@ def _loops(face):
         parts = []
         walk = BRepTools_WireExplorer(wire, face)
         while walk.More():
-            parts.append(_pcurve(walk.Current(), face)[1][:-1])
+            edge = walk.Current()
+            points = pcurve_points(BRepAdaptor_Curve2d(edge, face), deflection, edge.Orientation() == TopAbs_REVERSED)
+            parts.append(points[:-1])  # its last point is the next pcurve's first
             walk.Next()
         if parts:
             loops.append(np.concatenate(parts))
     return loops
-
-
-def _to_nurbs(face):
-    """The face converted by ``BRepBuilderAPI_NurbsConvert`` (surface and pcurves rewritten together)."""
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_NurbsConvert
-    from OCP.TopAbs import TopAbs_FACE
-    from OCP.TopExp import TopExp_Explorer
-
-    converter = BRepBuilderAPI_NurbsConvert(face, True)
-    explorer = TopExp_Explorer(converter.Shape(), TopAbs_FACE)
-    if not explorer.More():
-        raise ValueError("BRepBuilderAPI_NurbsConvert gave no face")
-    return _cast("Face")(explorer.Current())
 
 
 def _oriented(loops, domain):
@@ -245,114 +437,227 @@ def _is_full_domain(loop, domain, rtol=1e-9):
     return abs(signed_area(loop) - area) <= rtol * area
 
 
-def _face(index, face):
-    """A :class:`Face` (or raises ValueError with the reason) and the face whose pcurves it uses."""
-    from OCP.BRep import BRep_Tool
-    from OCP.TopAbs import TopAbs_REVERSED
-
-    kind = _kind(BRep_Tool.Surface_s(face))
-    used = face
-    bs = _bspline(face)
-    if bs is None:
-        used = _to_nurbs(face)
-        bs = _bspline(used)
-        if bs is None:
-            got = _kind(BRep_Tool.Surface_s(used))
-            raise ValueError(f"BRepBuilderAPI_NurbsConvert did not give a B-spline surface (got {got})")
-    surface = lab_surface(bs)
-    loops = _oriented(_loops(used), surface.domain)
-    trim = None
-    if loops and not (len(loops) == 1 and _is_full_domain(loops[0], surface.domain)):
-        trim = trimmed(surface, loops[0], loops[1:])
-    return Face(index, kind, surface, trim, face.Orientation() == TopAbs_REVERSED), (None if used is face else bs)
-
-
 def _clip(uv, domain):
-    """(u, v) points moved into the domain (pcurves and projections may stray by OpenCASCADE's tolerance)."""
+    """(u, v) points moved into the domain (pcurves may stray by OpenCASCADE's tolerance)."""
     (u0, u1), (v0, v1) = domain
     return np.column_stack([np.clip(uv[:, 0], u0, u1), np.clip(uv[:, 1], v0, v1)])
 
 
-def _shared_edges(shape, face_map, converted, domains):
-    """Edges between two faces, sampled at the same parameters of the 3-D curve, with both faces' (u, v).
-
-    A face's (u, v) come from its pcurve at the edge curve's parameter (OpenCASCADE's edges are same-parameter);
-    on a face converted to NURBS they are found by projecting the edge's points (``ShapeAnalysis_Surface``).
-    """
+def _face(index, face):
+    """A :class:`Face` in the file's parameters (or raises ValueError with the reason)."""
     from OCP.BRep import BRep_Tool
-    from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Curve2d
-    from OCP.gp import gp_Pnt, gp_Vec
-    from OCP.ShapeAnalysis import ShapeAnalysis_Surface
+    from OCP.BRepTools import BRepTools
+    from OCP.TopAbs import TopAbs_REVERSED
+
+    kind = _kind(BRep_Tool.Surface_s(face))
+    nurbs, maps, domain, exact, deviation = _nurbs(face, kind)
+    surface = _file_surface(nurbs, maps, domain, kind)
+    box = domain
+    if maps is None:  # the pcurves' box within the surface's domain (a B-spline face may use part of it)
+        u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+        (a0, a1), (b0, b1) = domain
+        inner = ((max(u0, a0), min(u1, a1)), (max(v0, b0), min(v1, b1)))
+        if inner[0][1] > inner[0][0] and inner[1][1] > inner[1][0]:
+            box = inner
+    loops = _oriented(_loops(face, box), domain)
+    trim = None
+    if loops and not (len(loops) == 1 and _is_full_domain(loops[0], domain)):
+        trim = trimmed(surface, loops[0], loops[1:])
+    return Face(index, kind, nurbs, trim, face.Orientation() == TopAbs_REVERSED, file_surface=surface, domain=box,
+                maps=maps, exact=exact, deviation=deviation)
+
+
+# -- shared edges and sewing ---------------------------------------------------------------------------
+
+
+def _free_edges(ancestors):
+    """How many edges (not degenerate) bound only one face: a part whose faces are not sewn has many."""
+    from OCP.BRep import BRep_Tool
+
+    free = 0
+    for k in range(1, ancestors.Extent() + 1):
+        if ancestors.FindFromIndex(k).Size() == 1 and not BRep_Tool.Degenerated_s(_cast("Edge")(ancestors.FindKey(k))):
+            free += 1
+    return free
+
+
+def _ancestors(shape):
     from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
     from OCP.TopExp import TopExp
 
     ancestors = _shape_map(data=True)
     TopExp.MapShapesAndAncestors_s(shape, TopAbs_EDGE, TopAbs_FACE, ancestors)
-    analysers = {}
+    return ancestors
+
+
+def _bounding_size(shape):
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    box = Bnd_Box()
+    BRepBndLib.Add_s(shape, box, False)
+    if box.IsVoid():
+        return 1.0
+    lo, hi = box.CornerMin(), box.CornerMax()
+    return float(np.linalg.norm([hi.X() - lo.X(), hi.Y() - lo.Y(), hi.Z() - lo.Z()])) or 1.0
+
+
+def sew_faces(shape, faces, tolerance=None):
+    """The faces sewn with ``BRepBuilderAPI_Sewing`` and, per sewn face, the index of the file's face.
+
+    Sewing merges edges of different faces that lie within ``tolerance`` of each other (default
+    :data:`SEW_RTOL` of the part's size, or the shape's largest tolerance if that is larger) into one edge
+    with a pcurve on each face; it keeps the faces' surfaces, may give a face new edges and pcurves
+    (projected onto the same surface, so in the same parameters) and may reverse faces to orient a shell
+    consistently.  The lab uses the sewn shape only for its shared edges.
+
+    Parameters
+    ----------
+    shape : TopoDS_Shape
+    faces : list of TopoDS_Face
+        The file's faces, in the file's order.
+    tolerance : float, optional
+
+    Returns
+    -------
+    sewn : TopoDS_Shape
+    owner : dict
+        Sewn ``TopoDS_Face`` (hashed by OpenCASCADE's shape map) -> file index, as a function ``owner(face)``.
+    tolerance : float
+        The tolerance used.
+    """
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
+    from OCP.ShapeAnalysis import ShapeAnalysis_ShapeTolerance
+
+    if tolerance is None:
+        largest = ShapeAnalysis_ShapeTolerance().Tolerance(shape, 1)  # 1: the largest
+        tolerance = max(SEW_RTOL * _bounding_size(shape), largest)
+    sewing = BRepBuilderAPI_Sewing(float(tolerance))
+    for f in faces:
+        sewing.Add(f)
+    sewing.Perform()
+    sewn = sewing.SewedShape()
+    index = _shape_map()
+    owners = []
+    for i, f in enumerate(faces):
+        g = sewing.Modified(f) if sewing.IsModified(f) else f
+        if index.FindIndex(g) == 0:
+            index.Add(g)
+            owners.append(i)
+
+    def owner(face):
+        k = index.FindIndex(face)
+        return owners[k - 1] if k > 0 else -1
+
+    return sewn, owner, float(tolerance)
+
+
+def _shared_edges(shape, owner, domains):
+    """Edges between two faces, sampled at the same parameters of the 3-D curve, with both faces' (u, v).
+
+    ``owner(face)`` is the file index of a face of ``shape`` (-1: none).  A face's (u, v) come from its
+    pcurve at the edge curve's parameter (OpenCASCADE's edges are same-parameter), in the file's parameters.
+    The pcurve is taken of the edge as the face holds it: where a periodic surface has two pcurves for an
+    edge (u = 0 and u = 2 pi), the edge's orientation in the face chooses the one the face's loop uses.
+    """
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepAdaptor import BRepAdaptor_Curve, BRepAdaptor_Curve2d
+    from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_REVERSED
+    from OCP.TopExp import TopExp_Explorer
+
+    ancestors = _ancestors(shape)
+    held = {}  # (edge index, file index) -> [(face, edge as the face holds it), ...]
+    faces = TopExp_Explorer(shape, TopAbs_FACE)
+    while faces.More():
+        face = _cast("Face")(faces.Current())
+        i = owner(face)
+        if i >= 0 and i in domains:
+            walk = TopExp_Explorer(face, TopAbs_EDGE)
+            while walk.More():
+                held.setdefault((ancestors.FindIndex(walk.Current()), i), []).append((face, _cast("Edge")(walk.Current())))
+                walk.Next()
+        faces.Next()
     edges = []
     for k in range(1, ancestors.Extent() + 1):
         edge = _cast("Edge")(ancestors.FindKey(k))
-        if BRep_Tool.Degenerated_s(edge):
+        if ancestors.FindFromIndex(k).Size() < 2 or BRep_Tool.Degenerated_s(edge):
             continue
-        around = ancestors.FindFromIndex(k)
-        if around.Size() < 2:
-            continue  # a free edge (IGES faces are often not sewn)
-        owners = []
-        for f in around:
-            i = face_map.FindIndex(f) - 1
-            if i >= 0 and i in domains and i not in [o for o, _ in owners]:
-                owners.append((i, _cast("Face")(f)))
-        if len(owners) != 2:
-            continue  # a free edge or a seam of one face
+        owners = [(i, held[k, i][0]) for i in _owners_of(ancestors.FindFromIndex(k), owner, domains)]
+        if len(owners) != 2 or any(len(held[k, i]) != 1 for i, _ in owners):
+            continue  # a free edge, a seam of one face, or an edge twice in a face
         try:
             curve = BRepAdaptor_Curve(edge)
             t = np.linspace(curve.FirstParameter(), curve.LastParameter(), PCURVE_SAMPLES)
-            points, tangents = np.empty((len(t), 3)), np.empty((len(t), 3))
-            p, d = gp_Pnt(), gp_Vec()
-            for n, x in enumerate(t):
-                curve.D1(float(x), p, d)
-                points[n], tangents[n] = (p.X(), p.Y(), p.Z()), (d.X(), d.Y(), d.Z())
-            uvs = []
-            for i, f in owners:
-                if i in converted:
-                    if i not in analysers:
-                        analysers[i] = ShapeAnalysis_Surface(converted[i])
-                    sas = analysers[i]
-                    uvs.append(np.array([[q.X(), q.Y()] for q in (sas.ValueOfUV(gp_Pnt(*p), 1e-9) for p in points)]))
-                else:
-                    uvs.append(_values2d(BRepAdaptor_Curve2d(edge, f), t))
+            points, tangents = curve3d_values(curve, t)
+            uvs = [_clip(curve2d_values(BRepAdaptor_Curve2d(e, f), t), domains[i]) for i, (f, e) in owners]
         except Exception:  # noqa: BLE001, S112 - an edge OpenCASCADE cannot evaluate is not a shared edge of the model
             continue
-        uvs = [_clip(uv, domains[i]) for uv, (i, _) in zip(uvs, owners)]
-        edges.append(Edge(len(edges), tuple(i for i, _ in owners), points, tuple(uvs), t, tangents))
+        senses = tuple(f.Orientation() == TopAbs_REVERSED for _, (f, _e) in owners)
+        edges.append(Edge(len(edges), tuple(i for i, _ in owners), points, tuple(uvs), t, tangents,
+                          BRep_Tool.Tolerance_s(edge), senses))
     return edges
 
 
-def read_occ(path, name=None):
-    """A :class:`Model` of a STEP, IGES or BREP file (see :func:`lab.read`)."""
+def _owners_of(around, owner, domains):
+    """The distinct file indices of the faces in a list of faces, in its order."""
+    out = []
+    for f in around:
+        i = owner(f)
+        if i >= 0 and i in domains and i not in out:
+            out.append(i)
+    return out
+
+
+def read_occ(path, name=None, sew=None):
+    """A :class:`Model` of a STEP, IGES or BREP file (see :func:`lab.read`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    name : str, optional
+    sew : bool or None
+        Find the edges that faces share by sewing (``BRepBuilderAPI_Sewing``, see :func:`sew_faces`): ``True``
+        always, ``False`` never (only the edges the file itself shares), ``None`` (default) when the file
+        has free edges (edges of one face only, e.g. an IGES file's unsewn faces).  Sewing never changes
+        the model's faces: they keep the file's order, surfaces, parameters, loops and orientation.  The
+        edges are found (and the faces sewn) when ``model.edges`` is first used, not by the read.
+    """
     from OCP.BRep import BRep_Tool
     from OCP.TopAbs import TopAbs_FACE
     from OCP.TopExp import TopExp
 
+    if sew not in (None, True, False):
+        raise TypeError(f"sew must be True, False or None (sew when the file's faces are not sewn); got {sew!r}")
     shape = occ_shape(path)
     face_map = _shape_map()
     TopExp.MapShapes_s(shape, TopAbs_FACE, face_map)  # the explorer's order, each face once
     if face_map.Extent() == 0:
         raise ValueError(f"{os.fspath(path)}: the file holds no faces (only points, curves or an empty shape)")
-    faces, problems, converted = [], [], {}
-    for index in range(face_map.Extent()):
-        f = _cast("Face")(face_map.FindKey(index + 1))
+    shapes = [_cast("Face")(face_map.FindKey(i + 1)) for i in range(face_map.Extent())]
+    faces, problems = [], []
+    for index, f in enumerate(shapes):
         try:
-            face, bs = _face(index, f)
+            faces.append(_face(index, f))
         except Exception as exc:  # noqa: BLE001 - OCCT raises Standard_Failure subclasses; every failure is reported by face
             try:
                 kind = _kind(BRep_Tool.Surface_s(f))
             except Exception:  # noqa: BLE001 - the kind is only for the report
                 kind = "unknown"
             problems.append(Problem(index, kind, f"{type(exc).__name__}: {exc}"))
-            continue
-        faces.append(face)
-        if bs is not None:
-            converted[index] = bs
-    edges = _shared_edges(shape, face_map, converted, {f.index: f.domain for f in faces})
-    return Model(faces, edges, problems, path=os.fspath(path), name=name)
+    domains = {f.index: f.file_surface.domain for f in faces}
+
+    def find_edges():
+        """``(edges, sewing tolerance or None)``, run once when ``model.edges`` is first used."""
+        sewing = sew
+        if sewing is None:
+            sewing = len(shapes) > 1 and _free_edges(_ancestors(shape)) > 0
+        if sewing and len(shapes) > 1:
+            try:
+                sewn, owner, tolerance = sew_faces(shape, shapes)
+                return _shared_edges(sewn, owner, domains), tolerance
+            except Exception as exc:  # noqa: BLE001 - OCCT raises Standard_Failure subclasses: say so, keep the file's edges
+                warnings.warn(f"{os.fspath(path)}: sewing the faces failed ({type(exc).__name__}: {exc}); "
+                              "model.edges holds only the edges the file itself shares", UserWarning, stacklevel=3)
+        return _shared_edges(shape, lambda f: face_map.FindIndex(f) - 1, domains), None
+
+    return Model(faces, find_edges, problems, path=os.fspath(path), name=name)

@@ -303,13 +303,32 @@ def _eps(scale):
     return (TRIM_RTOL * scale) ** 2
 
 
+def _box_pairs(A0, A1, slack):
+    """Pairs ``i < j`` of segments whose bounding boxes, grown by ``slack``, overlap (sweep and prune).
+
+    Two segments can meet only if their boxes do.  The boxes are sorted by their lower x; each box pairs
+    with the boxes that start before it ends in x, then the pairs are kept whose y intervals overlap too.
+    One long segment (a pcurve that is a straight line across the face) pairs only with the boxes it
+    spans, where a radius around midpoints would pair every segment with every other.
+    """
+    lo, hi = np.minimum(A0, A1) - slack, np.maximum(A0, A1) + slack
+    order = np.argsort(lo[:, 0], kind="stable")
+    start = lo[order, 0]
+    count = np.searchsorted(start, hi[order, 0], side="right") - np.arange(1, len(order) + 1)
+    count = np.maximum(count, 0)
+    first = np.repeat(np.arange(len(order)), count)
+    second = first + 1 + np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    i, j = order[first], order[second]
+    keep = (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1])
+    return np.sort(np.column_stack([i[keep], j[keep]]), axis=1)
+
+
 def loop_intersections(loop, scale=None):
     """Pairs of segments of one closed polyline that meet (other than neighbours at their shared point).
 
     Neighbouring segments count as meeting when they overlap, i.e. the loop
-    turns back on itself.  Candidate pairs are found with a k-d tree of the
-    segments' midpoints (two segments can meet only if their midpoints are
-    at most the longest segment apart), then tested exactly.
+    turns back on itself.  Candidate pairs are those whose bounding boxes
+    overlap (a sweep over the boxes sorted in x), then tested exactly.
 
     Parameters
     ----------
@@ -329,10 +348,7 @@ def loop_intersections(loop, scale=None):
     if scale is None:
         scale = float(np.linalg.norm(np.ptp(A0, axis=0)))
     eps = _eps(scale)
-    lengths = np.linalg.norm(A1 - A0, axis=1)
-    tree = cKDTree(0.5 * (A0 + A1))
-    pairs = tree.query_pairs(lengths.max() * (1 + 1e-9) + np.sqrt(eps), output_type="ndarray")
-    pairs = np.sort(pairs.reshape(-1, 2), axis=1)
+    pairs = _box_pairs(A0, A1, np.sqrt(eps))
     adjacent = (pairs[:, 1] - pairs[:, 0] == 1) | ((pairs[:, 0] == 0) & (pairs[:, 1] == k - 1))
     far = pairs[~adjacent]
     hit, where = _intersect(A0[far[:, 0]], A1[far[:, 0]], A0[far[:, 1]], A1[far[:, 1]], eps)

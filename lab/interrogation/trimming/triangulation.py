@@ -3,6 +3,7 @@
 from typing import NamedTuple
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from ...geometry import validation as _v
 from ...i18n import _, decimal
@@ -10,8 +11,8 @@ from .loops import (
     TRIM_RTOL,
     BSplineLoop,
     _cross,
+    _point_segment_distance,
     _segments,
-    distance_to_loop,
     loop_intersections,
     loops_intersections,
     point_in_loop,
@@ -250,8 +251,10 @@ def _split_long_segments(loop, spacing):
     pieces = np.maximum(1, np.ceil(np.linalg.norm(A1 - A0, axis=1) / spacing * (1 - 1e-12))).astype(int)
     if np.all(pieces == 1):
         return loop
-    out = [a + np.arange(k)[:, None] / k * (b - a) for a, b, k in zip(A0, A1, pieces)]
-    return np.concatenate(out)
+    segment = np.repeat(np.arange(len(A0)), pieces)  # piece i of segment s starts at A0 + i / k (A1 - A0)
+    k = pieces[segment]
+    i = np.arange(len(segment)) - np.repeat(np.cumsum(pieces) - pieces, pieces)
+    return A0[segment] + (i / k)[:, None] * (A1 - A0)[segment]
 
 
 def _interior_point(loop):
@@ -356,7 +359,16 @@ def triangulate(outer, holes, domain, n_u=32, n_v=32, max_area=None, min_angle=2
         G = G[inside]
         clear = np.ones(len(G), dtype=bool)
         for L in loops:
-            clear &= distance_to_loop(G, L) >= 0.5 * h
+            # a node whose nearest loop point is farther than 0.5 h + half the longest segment is clear of
+            # every segment (a segment's points lie within half its length of one of its ends): measured
+            # exactly are only the nodes near the loop
+            A0, A1 = _segments(L)
+            half = 0.5 * float(np.linalg.norm(A1 - A0, axis=1).max())
+            near, _ = cKDTree(L).query(G, distance_upper_bound=0.5 * h + half)
+            near = np.flatnonzero(np.isfinite(near))
+            for block in np.array_split(near, max(1, len(near) * len(A0) // 2**16)):  # exact, all segments
+                d = _point_segment_distance(G[block, None], A0[None], A1[None]).min(axis=1)
+                clear[block] &= d >= 0.5 * h
         vertices = np.concatenate([vertices, G[clear]])
     data = {"vertices": vertices, "segments": segments}
     if holes:
