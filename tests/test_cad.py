@@ -445,12 +445,12 @@ def test_bad_files_are_named_with_what_is_wrong(tmp_path):
 
 @needs_data
 def test_sewing_that_fails_is_said_and_the_files_own_edges_kept(monkeypatch):
-    from lab.interrogation.cad import occ as occ_module
+    from lab.interrogation.cad import sewing as sewing_module
 
     def broken(*args, **kwargs):
         raise RuntimeError("no sewing today")
 
-    monkeypatch.setattr(occ_module, "sew_faces", broken)
+    monkeypatch.setattr(sewing_module, "sew_faces", broken)
     model = lab.read(DATA / "iges" / "hammer.iges")
     with pytest.warns(UserWarning, match="hammer.iges: sewing the faces failed .RuntimeError: no sewing today.; "
                                          "model.edges holds only the edges the file itself shares"):

@@ -56,12 +56,12 @@ def _off_hole(X):
 
 
 def test_geodesic_on_a_cylinder_face_is_a_helix(drilled):
-    """On the wall (OpenCASCADE's rational form of the cylinder, not in angle and height) the geodesic from
+    """On the wall (in the file's parameters, angle and height, over OpenCASCADE's rational form) the geodesic from
     x0 with unit tangent t0 is the helix θ(s) = θ0 + s t0·e_θ / R, z(s) = z0 + s t0·e_z, to 1e-9."""
     face = _wall(drilled)
     path = lab.geodesic(face, (np.pi / 2, 1.0), np.pi / 4, 2.0)
     assert path.end == "length" and not path.hit_boundary  # it stays clear of the holes
-    d = face.surface.derivatives(np.array([np.pi / 2]), np.array([1.0]))
+    d = face.derivatives(np.array([np.pi / 2]), np.array([1.0]))
     t0 = d.bu[0] * path.duv[0, 0] + d.bv[0] * path.duv[0, 1]
     x0 = path.points[0]
     theta0 = np.arctan2(x0[1], x0[0])
@@ -81,9 +81,9 @@ def test_geodesic_on_a_face_stops_at_its_hole(drilled):
     face = _wall(drilled)
     hole = min(face.trim.loops, key=len) if len(face.trim.loops) > 1 else face.trim.loops[0]
     mid = 0.5 * (hole[1:] + hole[:-1])
-    sagitta = float(np.max(np.abs(_off_hole(face.surface.evaluate(mid[:, 0], mid[:, 1])))))
+    sagitta = float(np.max(np.abs(_off_hole(face.evaluate(mid[:, 0], mid[:, 1])))))
     assert 0 < sagitta < 0.02
-    d = face.surface.derivatives(np.array([np.pi / 2]), np.array([ZHOLE]))
+    d = face.derivatives(np.array([np.pi / 2]), np.array([ZHOLE]))
     for alpha in (np.pi / 2, 3 * np.pi / 2):  # the one that heads towards +θ (x_v^⊥ = −G x_u: the sign of x_u)
         path = lab.geodesic(face, (np.pi / 2, ZHOLE), alpha, 5.0)
         t0 = d.bu[0] * path.duv[0, 0] + d.bv[0] * path.duv[0, 1]
@@ -97,7 +97,7 @@ def test_geodesic_on_a_face_stops_at_its_hole(drilled):
     theta_exit = np.pi - np.arcsin(RHOLE / R)
     assert path.length == pytest.approx(R * (theta_exit - theta0), abs=2 * sagitta)
     # the surface's own geodesic runs on through the hole, to the surface's border
-    whole = lab.geodesic(face.surface, (np.pi / 2, ZHOLE), alpha, 5.0)
+    whole = lab.geodesic(face.file_surface, (np.pi / 2, ZHOLE), alpha, 5.0)
     assert whole.end in ("length", "boundary") and whole.length > path.length + 0.5
     np.testing.assert_allclose(whole.at(path.s)[1], path.points, atol=1e-9)
 
@@ -317,7 +317,7 @@ def test_geodesic_explorer_on_a_face(drilled):
     assert 0 < len(cut) < len(g.fan)
     hole = min(face.trim.loops, key=len)
     mid = 0.5 * (hole[1:] + hole[:-1])
-    sagitta = float(np.max(np.abs(_off_hole(face.surface.evaluate(mid[:, 0], mid[:, 1])))))
+    sagitta = float(np.max(np.abs(_off_hole(face.evaluate(mid[:, 0], mid[:, 1])))))
     assert all(abs(_off_hole(p.points[-1])) <= 1.01 * sagitta for p in cut)
     assert f"{len(cut)} of 32 paths leave the face before length 2" in g.status.value
     assert g.domain_view.value.count("<polygon") == len(face.trim.loops)

@@ -141,10 +141,27 @@ def border_combs(surface, *, density=64, scale=1.0, count=0):
     return combs
 
 
+def _resampled(surface, uv, density):
+    """The parameter polyline ``uv`` with its segments split (linearly in (u, v)) so that no piece is longer in space
+    than the polyline's 3-D extent over ``density``: a loop's straight pcurve (a cylinder's rim, two points in the
+    file's angle) gets teeth along it, as a curved one does."""
+    t = np.linspace(0.0, 1.0, 9)[:, None, None]  # 9 points a segment: a rim from u = 0 to 2π closes on itself
+    W = uv[:-1] + t * (uv[1:] - uv[:-1])
+    X = surface.evaluate(W[..., 0], W[..., 1])
+    lengths = np.linalg.norm(np.diff(X, axis=0), axis=2).sum(axis=0)
+    spacing = float(np.linalg.norm(np.ptp(X.reshape(-1, 3), axis=0))) / density
+    if not spacing > 0:
+        return uv
+    pieces = np.maximum(1, np.ceil(lengths / spacing).astype(int))
+    out = [a + np.linspace(0, 1, k, endpoint=False)[:, None] * (b - a) for a, b, k in zip(uv[:-1], uv[1:], pieces)]
+    return np.vstack(out + [uv[-1:]])
+
+
 def _face_combs(surface, trim, density, scale, count):
     """Combs along a face's loops and along its iso-curves, cut to the trimmed region."""
     density = int(_v.as_number(density, "density", minimum=2))
-    combs = [comb(surface, np.vstack([loop, loop[:1]]), scale=scale) for loop in trim.loops]
+    combs = [comb(surface, _resampled(surface, np.vstack([loop, loop[:1]]), density), scale=scale)
+             for loop in trim.loops]
     X = np.concatenate(trim.loops)
     lo, hi = X.min(axis=0), X.max(axis=0)
     for axis in (0, 1):  # axis 0: u fixed ("u" curves, v runs)
