@@ -200,3 +200,33 @@ def pcurve_points(adaptor, deflection, reverse=False, angle=0.3):
         else:
             points = _occ_values(adaptor, np.linspace(lo, hi, 24), 2, False)
     return points[::-1] if reverse else points
+
+
+def _cast(kind):
+    """``TopoDS.Face`` (OCP 8) or ``TopoDS.Face_s`` (OCP 7)."""
+    from OCP.TopoDS import TopoDS
+
+    return getattr(TopoDS, kind + "_s", None) or getattr(TopoDS, kind)
+
+
+def _shape_map(data=False):
+    """An indexed map of shapes (to lists of shapes with ``data``): ``TopTools_*`` in OCP 7, collections in OCP 8."""
+    try:
+        from OCP import TopTools
+
+        return getattr(TopTools, "TopTools_IndexedDataMapOfShapeListOfShape" if data else
+                       "TopTools_IndexedMapOfShape")()
+    except (ImportError, AttributeError):
+        from OCP.OCP import collections
+
+        return getattr(collections, "IndexedDataMap_TopoDS_Shape_List_TopoDS_Shape_TopTools_ShapeMapHasher" if data
+                       else "IndexedMap_TopoDS_Shape_TopTools_ShapeMapHasher")()
+
+
+# -- a face's surface in the file's parameters ------------------------------------------------------------
+
+
+def _clip(uv, domain):
+    """(u, v) points moved into the domain (pcurves may stray by OpenCASCADE's tolerance)."""
+    (u0, u1), (v0, v1) = domain
+    return np.column_stack([np.clip(uv[:, 0], u0, u1), np.clip(uv[:, 1], v0, v1)])

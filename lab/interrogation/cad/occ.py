@@ -31,16 +31,13 @@ from ...geometry.parameter_maps import ParameterMap, circle_spans
 from ...model.surface import BSplineSurface, ReparametrizedSurface
 from ..trimming import trimmed
 from ..trimming.loops import signed_area
-from .curves import pcurve_points
+from .curves import _cast, _clip, _shape_map, pcurve_points
 from .model import Face, Model, Problem
 
 __all__ = ["EXTENSIONS", "lab_surface", "occ_shape", "read_occ", "require_ocp"]
 
 #: File name endings read through OpenCASCADE.
 EXTENSIONS = {".step": "STEP", ".stp": "STEP", ".iges": "IGES", ".igs": "IGES", ".brep": "BREP", ".brp": "BREP"}
-
-#: Samples per shared edge (the 3-D curve and both pcurves at the same parameters).
-PCURVE_SAMPLES = 24
 
 #: Chordal tolerance of a trimming loop's polyline: this fraction of the smaller side of its face's (u, v) box
 #: (:func:`lab.interrogation.cad.curves.pcurve_points`; a line is its two ends).
@@ -53,10 +50,6 @@ MAP_RTOL = 1e-9
 #: Tolerance of the NURBS approximation of a face without an exact NURBS form (an offset of a B-spline
 #: surface), relative to the face's size.
 APPROX_RTOL = 1e-10
-
-#: Sewing tolerance, relative to the part's size (bounding-box diagonal), unless the shape's own tolerances
-#: are larger (see :func:`read_occ`).
-SEW_RTOL = 1e-6
 
 _KINDS = ("Plane", "Cylinder", "Cone", "Sphere", "Torus", "BezierSurface", "BSplineSurface",
           "SurfaceOfRevolution", "SurfaceOfExtrusion", "OffsetSurface", "OtherSurface")
@@ -158,30 +151,6 @@ def lab_surface(bs):
     knots_u = np.array([ku.Value(k) for k in range(ku.Lower(), ku.Upper() + 1)])
     knots_v = np.array([kv.Value(k) for k in range(kv.Lower(), kv.Upper() + 1)])
     return BSplineSurface(P, knots_u, knots_v, bs.UDegree(), bs.VDegree(), weights=weights)
-
-
-def _cast(kind):
-    """``TopoDS.Face`` (OCP 8) or ``TopoDS.Face_s`` (OCP 7)."""
-    from OCP.TopoDS import TopoDS
-
-    return getattr(TopoDS, kind + "_s", None) or getattr(TopoDS, kind)
-
-
-def _shape_map(data=False):
-    """An indexed map of shapes (to lists of shapes with ``data``): ``TopTools_*`` in OCP 7, collections in OCP 8."""
-    try:
-        from OCP import TopTools
-
-        return getattr(TopTools, "TopTools_IndexedDataMapOfShapeListOfShape" if data else
-                       "TopTools_IndexedMapOfShape")()
-    except (ImportError, AttributeError):
-        from OCP.OCP import collections
-
-        return getattr(collections, "IndexedDataMap_TopoDS_Shape_List_TopoDS_Shape_TopTools_ShapeMapHasher" if data
-                       else "IndexedMap_TopoDS_Shape_TopTools_ShapeMapHasher")()
-
-
-# -- a face's surface in the file's parameters ------------------------------------------------------------
 
 
 def _conversion_bounds(face, surface):
@@ -435,12 +404,6 @@ def _is_full_domain(loop, domain, rtol=1e-9):
     (u0, u1), (v0, v1) = domain
     area = (u1 - u0) * (v1 - v0)
     return abs(signed_area(loop) - area) <= rtol * area
-
-
-def _clip(uv, domain):
-    """(u, v) points moved into the domain (pcurves may stray by OpenCASCADE's tolerance)."""
-    (u0, u1), (v0, v1) = domain
-    return np.column_stack([np.clip(uv[:, 0], u0, u1), np.clip(uv[:, 1], v0, v1)])
 
 
 def _face(index, face):

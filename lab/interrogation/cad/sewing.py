@@ -6,11 +6,17 @@ inside its functions.
 
 import numpy as np
 
-from .curves import curve2d_values, curve3d_values
+from .curves import _cast, _clip, _shape_map, curve2d_values, curve3d_values
 from .model import Edge
-from .occ import PCURVE_SAMPLES, SEW_RTOL, _cast, _clip, _shape_map
 
-__all__ = ["sew_faces"]
+__all__ = ["PCURVE_SAMPLES", "SEW_RTOL", "sew_faces"]
+
+#: Samples per shared edge (the 3-D curve and both pcurves at the same parameters).
+PCURVE_SAMPLES = 24
+
+#: Sewing tolerance, relative to the part's size (bounding-box diagonal), unless the shape's own tolerances
+#: are larger (see :func:`sew_faces`).
+SEW_RTOL = 1e-6
 
 
 def _free_edges(ancestors):
