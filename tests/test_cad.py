@@ -771,3 +771,55 @@ def test_write_refuses_what_it_cannot_write(tmp_path):
     with pytest.raises(TypeError, match="the trimmed surface's base surface: only Bézier and B-spline/NURBS "
                                         "surfaces can be written; got ParametricSurface"):
         lab.write(catenoid, tmp_path / "x.brep")
+
+
+# -- sides collapsed within the file's accuracy ----------------------------------------------------------------
+
+
+def _sphere_octant(lift=0.0):
+    """The octant of the unit sphere as a rational biquadratic patch whose side v = 1 collapses to the pole; with
+    ``lift`` the pole's three control points are moved apart by that much (as a file's collapsed edge is)."""
+    w = np.sqrt(0.5)
+    arc = np.array([[1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    meridian = np.array([[1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])  # (radius, z)
+    P = np.array([[[meridian[j, 0] * arc[i, 0], meridian[j, 0] * arc[i, 1], meridian[j, 1]] for j in range(3)]
+                  for i in range(3)])
+    P[:, 2, :2] += lift * np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    W = np.outer([1.0, w, 1.0], [1.0, w, 1.0])
+    return lab.BezierSurface(P, W)
+
+
+def test_a_side_collapsed_within_the_files_accuracy_is_a_degenerate_point():
+    """The pole of a sphere octant moved apart by 1e-8 (a file's collapsed edge): the exact test does not see it,
+    and b_u x b_v there is noise (|H| far from 1); the model's mesh flags those vertices and gives the limit from
+    inside, the sphere's 1 (K = 1, H = ±1) as at the exactly collapsed pole."""
+    from lab.interrogation.cad.model import Face, Model
+    from lab.interrogation.faces import collapsed_sides
+
+    exact, lifted = _sphere_octant(), _sphere_octant(1e-8)
+    assert collapsed_sides(exact) == {"v1"} and collapsed_sides(lifted) == {"v1"}
+    assert collapsed_sides(_sphere_octant(1e-3)) == set()  # a side 1e-3 long is a side
+    raw = lifted.curvature(np.linspace(0, 1, 9), np.ones(9))
+    noise = ~raw.degenerate  # the exact test flags at most the corner where the lifted points still meet
+    assert noise.sum() >= 7 and np.max(np.abs(np.abs(raw.H[noise]) - 1)) > 0.1 and np.all(raw.K[noise] == 0)
+    mesh = Model([Face(0, "BezierSurface", lifted)]).to_mesh(9, 9)
+    uv, H, K = mesh.point_data["uv"], mesh.point_data["H"], mesh.point_data["K"]
+    pole = np.isclose(uv[:, 1], 1.0)
+    assert np.array_equal(mesh.point_data["degenerate"], pole)
+    np.testing.assert_allclose(np.abs(H[pole]), 1.0, atol=1e-5)
+    np.testing.assert_allclose(K[pole], 1.0, atol=1e-5)
+    assert np.all(np.isfinite(mesh.point_data["N"]))
+
+
+@needs_data
+def test_shell1s_collapsed_sides_are_degenerate_not_noise():
+    """OpenCASCADE's shell1.brep has faces with a side 2e-6 to 4e-6 long (a collapsed edge within the file's
+    accuracy): its mesh's H stays within the panel's curvature (it reached 4.9e7 there, 1e-6 of a unit away from
+    the pole), and no shared edge reports an angle from a normal that is noise there (it reported 177°)."""
+    model = lab.models.shell()
+    mesh = model.to_mesh(16, 16)
+    H, degenerate = mesh.point_data["H"], mesh.point_data["degenerate"]
+    assert degenerate.sum() > 0
+    assert np.nanmax(np.abs(H[~degenerate])) < 10  # the panel bends with radii above 0.1 of a unit
+    rep = lab.continuity(model)
+    assert max(e.g1 for e in rep.edges) < 5, rep.table(max_rows=5)

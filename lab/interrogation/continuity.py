@@ -34,6 +34,7 @@ from ..geometry.derivatives import Derivatives, from_homogeneous
 from ..i18n import N_, _, decimal
 from ..model.patches import BezierPatches
 from ..model.surface import BSplineSurface
+from .faces import collapsed_sides, on_collapsed_side
 
 __all__ = ["LEVELS", "TOLERANCES", "Continuity", "Edge", "continuity", "measures"]
 
@@ -455,6 +456,8 @@ def _as_model(obj):
 def _model_edges(model, tol, size):
     """Edges of a model: at each edge's samples both faces evaluated at their pcurve's (u, v), with the faces'
     orientations; the edge's tangent from the file's 3-D curve (differences of its points where it has none).
+    Samples on a side of a face that is collapsed within the file's accuracy (:func:`collapsed_sides`: its normal
+    there is rounding noise) count for the gap only, not for the angle and the curvature jump.
 
     Each face is evaluated once, at the samples of all its edges; edges with the same number of samples are
     measured together.  The faces' derivatives at a pcurve point are the surface's own: one-sided where the
@@ -471,7 +474,12 @@ def _model_edges(model, tol, size):
     for index, items in wanted.items():
         face = model.face(index)
         uv = np.concatenate([uv for _n, _s, uv in items])
-        d = getattr(face, "file_surface", face.surface).derivatives(uv[:, 0], uv[:, 1])  # edge uv: the file's
+        surface = getattr(face, "file_surface", face.surface)  # edge uv: the file's
+        d = surface.derivatives(uv[:, 0], uv[:, 1])
+        collapsed = on_collapsed_side(surface, uv, collapsed_sides(surface))
+        if np.any(collapsed):  # a side that is a point within the file's accuracy: no normal there, not measured
+            d = d._replace(**{f: np.where(collapsed[:, None], np.nan, getattr(d, f))
+                              for f in ("bu", "bv", "buu", "buv", "bvv")})
         start = 0
         for n, side, part in items:
             stop = start + len(part)

@@ -11,8 +11,8 @@ import numpy as np
 
 from ..mesh.levels import join_polylines
 
-__all__ = ["JOIN_RTOL", "as_surface", "check_inside", "face_surface", "fill_normals", "is_face", "is_model", "join_tol",
-           "joined"]
+__all__ = ["COLLAPSE_RTOL", "JOIN_RTOL", "as_surface", "check_inside", "collapsed_sides", "face_surface", "fill_normals",
+           "is_face", "is_model", "join_tol", "joined", "on_collapsed_side"]
 
 #: Level lines of neighbouring faces of a model are joined where their ends lie closer than this times the
 #: mesh's median edge length.  Across a tangent-continuous border the ends differ only by the two faces'
@@ -22,11 +22,52 @@ __all__ = ["JOIN_RTOL", "as_surface", "check_inside", "face_surface", "fill_norm
 JOIN_RTOL = 0.15
 
 
+#: A side of a face's parameter domain whose curve in space is shorter than this fraction of the face's size
+#: (its control points' box) is a point within the file's accuracy: a CAD file's collapsed edge (shell1.brep's
+#: are 2e-6 to 4e-6 long on faces of size 2 to 5, at most 1.1e-6 of them; 5e-8 of the part).
+COLLAPSE_RTOL = 1e-5
+
+
+def collapsed_sides(surface, rtol=COLLAPSE_RTOL):
+    """Which sides ``"u0", "u1", "v0", "v1"`` of the surface's domain are collapsed within ``rtol`` of its size.
+
+    The lab's exact test (:data:`lab.curvature.DEGENERATE_RTOL`, 1e-10) takes a side of 1e-6 of the size for a
+    curve, and b_u × b_v nearly vanishes there: curvature evaluated on it is rounding noise (10⁷ where the face
+    curves by 0.1).  Such a side is a degenerate point of the file, and its curvature is the limit from inside.
+    """
+    (u0, u1), (v0, v1) = surface.domain
+    t = np.linspace(0.0, 1.0, 17)
+    curves = {"u0": (np.full_like(t, u0), v0 + t * (v1 - v0)), "u1": (np.full_like(t, u1), v0 + t * (v1 - v0)),
+              "v0": (u0 + t * (u1 - u0), np.full_like(t, v0)), "v1": (u0 + t * (u1 - u0), np.full_like(t, v1))}
+    P = np.asarray(surface.control_points, dtype=float).reshape(-1, 3) if hasattr(surface, "control_points") else \
+        np.concatenate([surface.evaluate(*uv) for uv in curves.values()])
+    size = float(np.linalg.norm(np.ptp(P, axis=0)))
+    out = set()
+    for side, (u, v) in curves.items():
+        X = surface.evaluate(u, v)
+        if float(np.sum(np.linalg.norm(np.diff(X, axis=0), axis=1))) <= rtol * size:
+            out.add(side)
+    return out
+
+
+def on_collapsed_side(surface, uv, sides):
+    """Which parameter points ``uv`` (k, 2) lie on one of the collapsed ``sides`` (see :func:`collapsed_sides`)."""
+    uv = np.asarray(uv, dtype=float).reshape(-1, 2)
+    mask = np.zeros(len(uv), dtype=bool)
+    if not sides:
+        return mask
+    (u0, u1), (v0, v1) = surface.domain
+    eps_u, eps_v = 1e-9 * (u1 - u0), 1e-9 * (v1 - v0)
+    near = {"u0": np.abs(uv[:, 0] - u0) <= eps_u, "u1": np.abs(uv[:, 0] - u1) <= eps_u,
+            "v0": np.abs(uv[:, 1] - v0) <= eps_v, "v1": np.abs(uv[:, 1] - v1) <= eps_v}
+    for side in sides:
+        mask |= near[side]
+    return mask
+
+
 def is_face(obj):
     """Whether ``obj`` is a face of a model (a surface with trimming loops and an orientation), not a surface."""
-    from .cad.model import Face
-
-    return isinstance(obj, Face)
+    return all(hasattr(obj, name) for name in ("surface", "trim", "reversed", "index", "kind"))
 
 
 def face_surface(face):

@@ -3,12 +3,30 @@
 import numpy as np
 import pyvista as pv
 
+from ...geometry import curvature as _curv
 from ...geometry import validation as _v
 from ...mesh.build import color_curvature
+from ..faces import collapsed_sides, on_collapsed_side
 from ..trimming import triangulate
 from .orientation import flip
 
 __all__ = ["face_arrays", "model_mesh"]
+
+def _on_collapsed(surface, uv, c, N):
+    """Curvature at vertices on a side collapsed within the file's accuracy: the limit from inside, flagged."""
+    mask = on_collapsed_side(surface, uv, collapsed_sides(surface))
+    mask &= ~c.degenerate
+    if not np.any(mask):
+        return c, N
+    sub = _curv.Curvature(c.K[mask], c.H[mask], c.k1[mask], c.k2[mask], np.ones(int(mask.sum()), dtype=bool))
+    sub = _curv.with_limits(sub, uv[mask, 0], uv[mask, 1], surface.centre,
+                            lambda index, uu, vv: surface.derivatives(uu, vv))
+    fields = [np.array(x, copy=True) for x in c]
+    for field, value in zip(fields, sub):
+        field[mask] = value
+    N = np.array(N, copy=True)
+    N[mask] = np.nan  # b_u x b_v there is noise: the mesh's normal (face_arrays)
+    return _curv.Curvature(*fields), N
 
 
 def _grid(domain, n_u, n_v):
@@ -67,6 +85,7 @@ def face_arrays(face, n_u=16, n_v=16, min_angle=None, memory_limit=None):
     # point by point, also on a grid: a 16 x 16 grid over many knot spans is cut into as many blocks as pairs of
     # spans, which costs more than the grouped point evaluation (measured on the impeller: 6.6 ms against 1.5 ms)
     b, N, c = surface.sample_points(uv[:, 0], uv[:, 1], memory_limit=memory_limit)
+    c, N = _on_collapsed(surface, uv, c, N)
     if face.reversed:
         c, N, tri = flip(c), -N, tri[:, ::-1]
     missing = ~np.all(np.isfinite(N), axis=1)
