@@ -255,6 +255,11 @@ def test_gradescope_autograder_runs_and_rounds_alike(course, tmp_path):
     assert all(t["visibility"] == "after_due_date" for t in results["tests"])
     with pytest.raises(Exception, match="no graded tasks"):
         gradescope.build("09_dill_gallery", tmp_path / "x.zip")
+    # notebook 11 reads CAD files: its image gets OpenCASCADE (the extra cad) and the sample parts (occt-misc)
+    with zipfile.ZipFile(gradescope.build("11_real_part", tmp_path / "parts.zip")) as z:
+        setup = z.read("setup.sh").decode()
+    assert " occt-misc" in setup and 'pip install -q "/autograder/source/curvature-lab[cad]"' in setup
+    assert "occt-misc" not in (root / "source" / "setup.sh").read_text()
 
 
 # -- the hand-out ----------------------------------------------------------------------------------------------

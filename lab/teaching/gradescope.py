@@ -35,7 +35,7 @@ from ..i18n import _
 from .assignments import DEFAULT_FOLDER, AssignmentError, load
 from .grading import VISIBILITY
 
-__all__ = ["build", "main"]
+__all__ = ["REAL_PARTS", "build", "main", "setup_script"]
 
 ROOT = Path(__file__).resolve().parents[2]
 #: What of the repository the autograder installs (the library and what pip needs to build it).
@@ -46,11 +46,22 @@ SETUP = """#!/usr/bin/env bash
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
-apt-get install -y -qq --no-install-recommends python3 python3-venv python3-pip libegl1 libgl1-mesa-dri bubblewrap git
+apt-get install -y -qq --no-install-recommends python3 python3-venv python3-pip libegl1 libgl1-mesa-dri bubblewrap git{apt}
 python3 -m venv /autograder/venv
 /autograder/venv/bin/python -m pip install -q --upgrade pip
-/autograder/venv/bin/python -m pip install -q /autograder/source/curvature-lab
+/autograder/venv/bin/python -m pip install -q {package}
 """
+
+#: An assignment on real parts (it reads CAD files) needs OpenCASCADE (the extra ``cad``) and its sample parts
+#: (Debian's ``occt-misc``) in the autograder's image: found by what its notebook calls.
+REAL_PARTS = ("lab.read(", "models.", "occ_curvature")
+
+
+def setup_script(notebook_text):
+    """``setup.sh`` for an assignment whose instructor's notebook has the source ``notebook_text``."""
+    if any(call in notebook_text for call in REAL_PARTS):
+        return SETUP.format(apt=" occt-misc", package='"/autograder/source/curvature-lab[cad]"')
+    return SETUP.format(apt="", package="/autograder/source/curvature-lab")
 
 RUN = """#!/usr/bin/env bash
 # Gradescope runs this for every submission; it writes $ROOT/results/results.json.
@@ -103,7 +114,7 @@ def build(assignment, output, *, visibility="visible", exercises=DEFAULT_FOLDER,
     folder = path.parent.parent if path.parent.name in ("en", "de") else path.parent
     output = Path(output)
     with zipfile.ZipFile(output, "w", zipfile.ZIP_DEFLATED) as z:
-        for name, text in (("setup.sh", SETUP), ("run_autograder", RUN.format(assignment_id=found.id,
+        for name, text in (("setup.sh", setup_script(path.read_text())), ("run_autograder", RUN.format(assignment_id=found.id,
                                                                               visibility=visibility))):
             info = zipfile.ZipInfo(name)
             info.external_attr = 0o755 << 16
