@@ -71,6 +71,10 @@ class Edge:
         Where the measure that decides :attr:`achieved` is largest (for ``"G2"``: where g2 is).
     points : (k, 3) ndarray
         The samples along the edge (side A), with ``gap``, ``angle`` and ``jump`` (k,) at each.
+    g0_tol : float or None
+        The edge's own G0 tolerance (a length) where it is larger than the report's: a model's face edge is
+        closed within twice the file's tolerance of the edge (each face's pcurve lies within that tolerance of
+        the edge's curve, ``BRep_Tool.Tolerance``), which CAD files need for the gaps they leave.
     """
 
     kind: str
@@ -87,6 +91,7 @@ class Edge:
     gap: np.ndarray = field(repr=False)
     angle: np.ndarray = field(repr=False)
     jump: np.ndarray = field(repr=False)
+    g0_tol: object = field(default=None, repr=False)
 
     def __repr__(self):
         where = f"{self.direction} = {self.value:g}" if self.value is not None else f"faces {self.faces}"
@@ -125,17 +130,17 @@ class Continuity:
         """
         tol = self.tolerances
         rows = sorted(self.edges, key=lambda e: (LEVELS.index(e.achieved), -_deciding(e, tol, self.size)))
-        edge, g0, g1, g2, achieved = (_("edge"), _("G0 gap"), _("G1 angle [deg]"), _("G2 jump [1/L]"),
+        edge, g0, g1, g2, achieved = (_("edge"), _("G0 gap"), _("G1 angle [deg]"), _("G2 jump [1/length]"),
                                       _("achieved"))
-        header = f"{edge:<26} {g0:>10} {g1:>15} {g2:>14} {achieved:>9}"
+        header = f"{edge:<26} {g0:>10} {g1:>15} {g2:>19} {achieved:>9}"
         lines = [header, "-" * len(header)]
         for e in rows[:max_rows]:
             kind = _(EDGE_KINDS.get(e.kind, e.kind))
             if e.value is not None:
                 name = f"{kind} {e.direction} = {decimal(f'{e.value:.6g}')}"
             else:
-                name = f"{kind} {e.faces[0]}|{e.faces[1]}"
-            numbers = decimal(f"{e.g0:10.3g} {e.g1:15.3g} {e.g2:14.3g}")
+                name = f"{kind} {min(e.faces)}|{max(e.faces)}"
+            numbers = decimal(f"{e.g0:10.3g} {e.g1:15.3g} {e.g2:19.3g}")
             lines.append(f"{name:<26} {numbers} {e.achieved:>9}")
         if len(rows) > max_rows:
             lines.append(_("… {n} more edges").format(n=len(rows) - max_rows))
@@ -146,6 +151,9 @@ class Continuity:
                                "G2 jump <= {g2} x (max |kn| + 1/size)").format(
             g0=f"{tol['g0'] * self.size:.3g}", tol_g0=f"{tol['g0']:g}", size=f"{self.size:.4g}", g1=f"{tol['g1']:g}",
             g2=f"{tol['g2']:g}")))
+        if any(e.g0_tol is not None for e in self.edges):
+            lines.append(_("  face edges: G0 gap also <= twice the file's tolerance of the edge (up to {g0})").format(
+                g0=decimal(f"{max(e.g0_tol or 0 for e in self.edges):.3g}")))
         return "\n".join(lines)
 
     def __repr__(self):
@@ -155,7 +163,7 @@ class Continuity:
 def _deciding(edge, tol, size):
     """The measure that decides an edge's level, relative to its tolerance (for sorting)."""
     if edge.achieved == "none":
-        return edge.g0 / (tol["g0"] * size)
+        return edge.g0 / (edge.g0_tol or tol["g0"] * size)
     if edge.achieved == "G0":
         return edge.g1 / tol["g1"]
     return edge.g2
@@ -218,19 +226,19 @@ def measures(dA, dB, tA, tB, signs=None):
     return gap, angle, jump, kn
 
 
-def _levels(g0, g1, g2, kn, tol, size):
-    """The level achieved for arrays of per-edge maxima."""
+def _levels(g0, g1, g2, kn, tol, size, g0_tol=None):
+    """The level achieved for arrays of per-edge maxima (``g0_tol``: per-edge G0 tolerances where larger)."""
     out = np.full(np.shape(g0), "G2", dtype=object)
     out[~(g2 <= tol["g2"] * (kn + 1 / size))] = "G1"
     out[~(g1 <= tol["g1"])] = "G0"
-    out[~(g0 <= tol["g0"] * size)] = "none"
+    out[~(g0 <= (tol["g0"] * size if g0_tol is None else np.maximum(tol["g0"] * size, g0_tol)))] = "none"
     return out
 
 
-def _edges(meta, dA, dB, tA, tB, tol, size, signs=None):
+def _edges(meta, dA, dB, tA, tB, tol, size, signs=None, g0_tol=None):
     """Edges from paired samples: fields of ``dA, dB`` and ``tA, tB`` have shape ``(edges, samples, 3)``;
     ``meta`` holds per edge ``(kind, direction, value, faces, multiplicity)``; ``signs`` as in :func:`measures`
-    with shape ``(edges, samples)``."""
+    with shape ``(edges, samples)``; ``g0_tol`` per edge, its own G0 tolerance (a length) where larger."""
     flat = lambda x: x.reshape(-1, 3)
     if signs is not None:
         signs = tuple(np.asarray(x).ravel() for x in signs)
@@ -243,13 +251,14 @@ def _edges(meta, dA, dB, tA, tB, tol, size, signs=None):
         g1 = np.max(np.where(ok, angle, 0.0), axis=1)
         g2 = np.max(np.where(ok, jump, 0.0), axis=1)
         knmax = np.max(np.where(ok, kn, 0.0), axis=1)
-    levels = _levels(g0, g1, g2, knmax, tol, size)
+    levels = _levels(g0, g1, g2, knmax, tol, size, g0_tol)
     deciding = np.where((levels == "none")[:, None], gap, np.where((levels == "G0")[:, None], angle, jump))
     deciding = np.where(ok | (levels == "none")[:, None], deciding, -np.inf)
     worst = np.argmax(deciding, axis=1)
     points = dA.b
+    own = [None] * len(meta) if g0_tol is None else [float(x) if x > tol["g0"] * size else None for x in g0_tol]
     return [Edge(*meta[i], float(g0[i]), float(g1[i]), float(g2[i]), levels[i], points[i, worst[i]].copy(),
-                 points[i], gap[i], angle[i], jump[i]) for i in range(len(meta))]
+                 points[i], gap[i], angle[i], jump[i], own[i]) for i in range(len(meta))]
 
 
 def _tolerances(tol_g0, tol_g1, tol_g2):
@@ -457,7 +466,10 @@ def _model_edges(model, tol, size):
     """Edges of a model: at each edge's samples both faces evaluated at their pcurve's (u, v), with the faces'
     orientations; the edge's tangent from the file's 3-D curve (differences of its points where it has none).
     Samples on a side of a face that is collapsed within the file's accuracy (:func:`collapsed_sides`: its normal
-    there is rounding noise) count for the gap only, not for the angle and the curvature jump.
+    there is rounding noise) count for the gap only, not for the angle and the curvature jump.  The gap is the
+    distance across the edge: where the two faces' pcurves give points shifted along the edge (a file's pcurves
+    may slip by more than its tolerance), that shift is no gap.  An edge is closed within twice the file's
+    tolerance of the edge as well (:attr:`Edge.g0_tol`).
 
     Each face is evaluated once, at the samples of all its edges; edges with the same number of samples are
     measured together.  The faces' derivatives at a pcurve point are the surface's own: one-sided where the
@@ -497,8 +509,14 @@ def _model_edges(model, tol, size):
             signs.append(np.array([[-1.0 if _reversed(model, edges[n], side) else 1.0]
                                    * len(edges[n].t) for n in members]))
         t = np.stack([_edge_tangents(edges[n]) for n in members])
+        # the gap across the edge: a pcurve may slip along the edge (linkrods' by 5e-5, where the faces meet to
+        # 1e-13), which parts no faces; the part of the difference along the edge's tangent is not a gap
+        unit = t / np.where(np.linalg.norm(t, axis=-1, keepdims=True) > 0, np.linalg.norm(t, axis=-1, keepdims=True), 1)
+        slip = np.sum((sides[0].b - sides[1].b) * unit, axis=-1, keepdims=True) * unit
+        sides[1] = sides[1]._replace(b=sides[1].b + np.nan_to_num(slip))
         meta = [("face edge", None, None, tuple(edges[n].faces), None) for n in members]
-        for n, edge in zip(members, _edges(meta, sides[0], sides[1], t, t, tol, size, signs)):
+        own = np.array([2.0 * (getattr(edges[n], "tolerance", None) or 0.0) for n in members])
+        for n, edge in zip(members, _edges(meta, sides[0], sides[1], t, t, tol, size, signs, own)):
             out[n] = edge
     return out
 

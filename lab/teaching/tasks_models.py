@@ -26,7 +26,7 @@ import itertools
 
 import numpy as np
 
-from ..i18n import N_, _
+from ..i18n import N_, _, decimal
 from .spec import CaseSpec, Hint, Task, fmt
 
 __all__ = ["DEVELOPABLE_FACES", "TOLERANCE", "relative_gaussian"]
@@ -203,7 +203,7 @@ def _cases(rng, graded):
         names += [rng.choice(DEVELOPABLE), rng.choice(CURVED)]  # at least one of each
         scale = float(10.0 ** rng.uniform(-2, 2))
         cases.append(_case(_("random part no. {k}: {n} faces, size about {s}").format(
-            k=k + 1, n=len(names), s=f"{2 * scale:.2g}"), _model(rng, names, scale=scale)))
+            k=k + 1, n=len(names), s=decimal(f"{2 * scale:.2g}")), _model(rng, names, scale=scale)))
     return cases
 
 

@@ -18,8 +18,8 @@ from .. import style
 
 __all__ = ["EDGE_COLORS", "EdgeOverlay", "add_edge_overlay", "edge_legend_html", "edge_lines", "edge_report"]
 
-#: the colour of each level (worst first: magenta for an open gap, red a kink, orange a curvature jump, white G2)
-EDGE_COLORS = {"none": "#d01c8b", "G0": "#d7191c", "G1": "#fdae61", "G2": "#ffffff"}
+#: the colour of each level (worst first: violet for an open gap (unlike red at a glance), red a kink, orange a curvature jump, white G2)
+EDGE_COLORS = {"none": "#7b2cbf", "G0": "#d7191c", "G1": "#fdae61", "G2": "#ffffff"}
 
 
 def edge_report(source):
