@@ -657,10 +657,16 @@ def test_geomview_bezier_files(tmp_path):
 def test_write_and_read_back_gives_the_same_surfaces(tmp_path, suffix):
     teapot = lab.models.teapot()
     path = lab.write(teapot, tmp_path / f"teapot{suffix}")
-    back = lab.read(path)
+    back = lab.read(path, sew=False)
     assert len(back.faces) == 32 and back.problems == []
+    if suffix != ".3dm":  # written as one sewn shell: the patches share their borders (Rhino: separate surfaces)
+        assert len(back.edges) >= 48
+    # a STEP writer orders a shell's faces its own way: pair them by their middle points
+    middle = np.array([f.surface.evaluate(0.5, 0.5) for f in teapot.faces])
+    order = [int(np.argmin(np.linalg.norm(middle - f.surface.evaluate(0.5, 0.5), axis=1))) for f in back.faces]
+    assert sorted(order) == list(range(32))
     u, v = np.meshgrid(np.linspace(0.1, 0.9, 4), np.linspace(0.1, 0.9, 4), indexing="ij")
-    for a, b in zip(teapot.faces, back.faces):
+    for a, b in zip([teapot.faces[k] for k in order], back.faces):
         np.testing.assert_allclose(b.surface.evaluate(u, v), a.surface.evaluate(u, v), rtol=0, atol=1e-12)
         if suffix != ".3dm":  # Rhino's NURBS surfaces carry no face orientation
             np.testing.assert_allclose(b.curvature(u, v).H, a.curvature(u, v).H, rtol=1e-9, atol=1e-12)
@@ -823,3 +829,27 @@ def test_shell1s_collapsed_sides_are_degenerate_not_noise():
     assert np.nanmax(np.abs(H[~degenerate])) < 10  # the panel bends with radii above 0.1 of a unit
     rep = lab.continuity(model)
     assert max(e.g1 for e in rep.edges) < 5, rep.table(max_rows=5)
+
+
+@needs_data
+def test_a_part_read_from_a_file_is_written_with_its_own_topology(tmp_path):
+    """linkrods.step written as STEP and BREP is the file's own solid (one solid, 37 faces, the same 99 shared
+    edges and continuity), not 37 loose faces whose written loops only approximate the file's edges."""
+    from OCP.TopAbs import TopAbs_FACE, TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    model = lab.read(DATA / "step" / "linkrods.step")
+    for suffix in (".step", ".brep"):
+        path = lab.write(model, tmp_path / f"linkrods{suffix}")
+        shape = occ.occ_shape(path)
+        counts = []
+        for kind in (TopAbs_SOLID, TopAbs_FACE):
+            walk, n = TopExp_Explorer(shape, kind), 0
+            while walk.More():
+                n, _ = n + 1, walk.Next()
+            counts.append(n)
+        assert counts == [1, 37]
+        back = lab.read(path, sew=False)
+        assert len(back.edges) == 99 and lab.continuity(back).counts() == lab.continuity(model).counts()
+        u, v = (np.array([np.mean(x)]) for x in back.faces[13].domain)
+        np.testing.assert_allclose(back.faces[13].curvature(u, v).H, model.faces[13].curvature(u, v).H, rtol=1e-12)

@@ -10,12 +10,12 @@ from .model import Edge, Face, Model, Problem
 __all__ = ["Edge", "Face", "Model", "Problem", "read", "write"]
 
 
-def write(obj, path, *, drop_trims=False):
+def write(obj, path, *, drop_trims=False, sew=True):
     """Write a model (trimmed faces with their loops), a lab.TrimmedSurface or a lab surface as ``.brep``,
     ``.step`` or ``.3dm``: see :func:`.writer.write`."""
     from .writer import write as _write
 
-    return _write(obj, path, drop_trims=drop_trims)
+    return _write(obj, path, drop_trims=drop_trims, sew=sew)
 
 
 def read(path, *, name=None, sew=None):

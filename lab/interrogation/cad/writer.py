@@ -26,6 +26,11 @@ WRITE_EXTENSIONS = (".brep", ".step", ".stp", ".3dm")
 #: Tolerance of the written edges (3-D curves built on the surface) and vertices, relative to the part's size.
 WRITE_RTOL = 1e-7
 
+#: Sewing tolerance of a model's written faces, relative to the part's size: the faces' loops are the lab's
+#: polylines (chordal error 1e-3 of a face's (u, v) box, up to 3e-5 of linkrods' size), so neighbouring faces'
+#: written edges lie that far apart, and sewing joins them into shared edges again.
+SEW_RTOL = 1e-4
+
 
 def occ_bspline(surface):
     """A ``Geom_BSplineSurface`` with the control points, weights, knots and degrees of a lab spline surface."""
@@ -230,7 +235,27 @@ def occ_face(surface, loops=None, reversed_=False, tol=1e-7):
     return _cast("Face")(face.Reversed()) if reversed_ else face
 
 
-def write(obj, path, *, drop_trims=False):
+def _sewn(faces, tolerance):
+    """The faces sewn (``BRepBuilderAPI_Sewing``) into one shell, in their order and with their orientation, so
+    that a reader sees the part's shared edges, not loose faces (sewing alone would reorder them, and making a
+    solid could turn them round)."""
+    from OCP.BRep import BRep_Builder
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Sewing
+    from OCP.TopoDS import TopoDS_Shell
+
+    sewing = BRepBuilderAPI_Sewing(float(tolerance))
+    for f in faces:
+        sewing.Add(f)
+    sewing.Perform()
+    builder, shell = BRep_Builder(), TopoDS_Shell()
+    builder.MakeShell(shell)
+    for f in faces:
+        g = _cast("Face")(sewing.Modified(f)) if sewing.IsModified(f) else f
+        builder.Add(shell, g if g.Orientation() == f.Orientation() else _cast("Face")(g.Reversed()))
+    return shell
+
+
+def write(obj, path, *, drop_trims=False, sew=True):
     """Write a :class:`Model`, a :class:`lab.TrimmedSurface`, a :class:`lab.BezierSurface` or a
     :class:`lab.BSplineSurface` (or a :class:`lab.BezierPatches`).
 
@@ -246,6 +271,11 @@ def write(obj, path, *, drop_trims=False):
     drop_trims : bool
         ``.3dm`` only: write trimmed faces as their untrimmed surfaces (with a warning naming them) instead
         of refusing them.
+    sew : bool
+        ``.brep``/``.step`` with several faces built by the lab: sew them (at :data:`SEW_RTOL` of the part's
+        size) into one shell, in their order and orientation, so that the part keeps shared edges; ``False``:
+        loose faces in a compound.  A model read from a STEP, IGES or BREP file is written from the file's own shape
+        (its exact edges, shells and solids: a conversion, e.g. IGES to STEP), not face by face.
 
     Returns
     -------
@@ -281,26 +311,51 @@ def write(obj, path, *, drop_trims=False):
         return write_3dm([(p.surface, p.reversed) for p in pieces], path)
     require_ocp()
     from OCP.BRep import BRep_Builder
-    from OCP.BRepTools import BRepTools
     from OCP.TopoDS import TopoDS_Compound
 
+    original = _file_shape(obj)
+    if original is not None:  # a part read from a CAD file: its own shape, exact edges and topology
+        return _write_shape(original, path, ext)
     tol = WRITE_RTOL * _size(pieces)
     builder = BRep_Builder()
     compound = TopoDS_Compound()
     builder.MakeCompound(compound)
+    faces = []
     for piece in pieces:
         try:
-            builder.Add(compound, occ_face(piece.surface, piece.loops, piece.reversed, tol))
+            faces.append(occ_face(piece.surface, piece.loops, piece.reversed, tol))
         except Exception as exc:
             raise ValueError(f"{path}: {piece.label} could not be written: {type(exc).__name__}: {exc}") from exc
+        builder.Add(compound, faces[-1])
+    shape = _sewn(faces, SEW_RTOL * _size(pieces)) if sew and len(faces) > 1 else compound
+    return _write_shape(shape, path, ext)
+
+
+def _file_shape(obj):
+    """The OpenCASCADE shape of a model read from a STEP, IGES or BREP file that is still there, else None."""
+    from .occ import EXTENSIONS, occ_shape
+
+    path = getattr(obj, "path", None) if isinstance(obj, Model) else None
+    if path is None or os.path.splitext(path)[1].lower() not in EXTENSIONS or not os.path.isfile(path):
+        return None
+    return occ_shape(path)
+
+
+def _write_shape(shape, path, ext):
+    from OCP.BRepTools import BRepTools
+
+    from .occ import _quiet
+
+    _quiet()  # the STEP writer prints its statistics to stdout otherwise
+
     if ext == ".brep":
-        if not BRepTools.Write_s(compound, path):
+        if not BRepTools.Write_s(shape, path):
             raise ValueError(f"{path}: OpenCASCADE could not write the BREP file")
         return path
     from OCP.IFSelect import IFSelect_RetDone
     from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
 
     writer = STEPControl_Writer()
-    if writer.Transfer(compound, STEPControl_AsIs) != IFSelect_RetDone or writer.Write(path) != IFSelect_RetDone:
+    if writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone or writer.Write(path) != IFSelect_RetDone:
         raise ValueError(f"{path}: OpenCASCADE could not write the STEP file")
     return path
