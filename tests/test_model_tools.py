@@ -242,6 +242,8 @@ def test_probe_and_combs_on_a_face(drilled):
     assert rim.sum() > 20
     teeth = np.linalg.norm(outer.tips[rim] - outer.points[rim], axis=1)
     np.testing.assert_allclose(teeth, scale / R, rtol=1e-6)  # the polyline's tangent there is the rim's own
+    lines = lab.comb_lines(combs)  # a cylinder's combs have no inflection (the explorer's combs failed here)
+    assert lines.n_lines > 0 and "inflections" not in lines.field_data
     inside = np.concatenate([cb.uv for cb in combs[len(face.trim.loops):]])
     assert np.all(face.trim.contains(inside[:, 0], inside[:, 1]))  # the iso-curves are cut to the face
 

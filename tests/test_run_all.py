@@ -87,3 +87,19 @@ def test_run_all_reaches_the_end_with_no_task_written(kernels, path):
             found = re.search(pattern, printed)
             assert found, f"{path.stem} does not print {pattern!r}:\n{printed[-2000:]}"
             assert holds(*found.groups()), f"the text says {words!r}, the notebook prints {found.group(0)!r}"
+
+
+def test_a_cell_stopped_by_a_task_runs_once_the_task_is_written(kernels):
+    """Stopped by the unfinished task, then run again after the task is written: the cell runs. A comprehension's
+    loop variable is its own, not a name the cell assigns (notebook 11's cell ``[f.index for f in …]`` said
+    "Not run: this cell needs f" after the task passed its check)."""
+    cells = ["import lab\nlab.exercise_mode()",
+             "def developable_faces(model):\n    raise NotImplementedError('return the file indices')",
+             "mine = set(developable_faces(None))\nprint('found', [f for f in range(3) if f in mine])",
+             "def developable_faces(model):\n    return [1]",
+             "mine = set(developable_faces(None))\nprint('found', [f for f in range(3) if f in mine])"]
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in cells])
+    kernels("en").run(nb)
+    first, again = text_of(nb.cells[2]), text_of(nb.cells[4])
+    assert first.startswith(LINES["en"][0]) and "developable_faces" in first, first
+    assert again.strip() == "found [1]", again

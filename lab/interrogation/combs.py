@@ -182,7 +182,7 @@ def comb_lines(combs):
     """The teeth and the envelope (the polyline through the tips) of ``combs`` as one pyvista.PolyData of lines.
 
     Cell data ``part``: 0 for teeth, 1 for envelopes, 2 for the inflection marks (a segment through the
-    inflection point along the normal, as long as the comb's longest tooth on either side).  Inflection points are in ``field_data["inflections"]``.
+    inflection point along the normal, as long as the comb's longest tooth on either side).  Inflection points are in ``field_data["inflections"]`` (absent when there are none).
     """
     import pyvista as pv
 
@@ -220,5 +220,6 @@ def comb_lines(combs):
     mesh = pv.PolyData(np.array(points, dtype=float).reshape(-1, 3), lines=np.array(cells, dtype=np.int64))
     mesh.cell_data["part"] = np.array(part, dtype=np.int64)
     flex = [c.inflection_points for c in combs if len(c.inflection_points)]
-    mesh.field_data["inflections"] = np.concatenate(flex) if flex else np.zeros((0, 3))
+    if flex:  # PyVista refuses an empty array as field data: no inflections, no entry
+        mesh.field_data["inflections"] = np.concatenate(flex)
     return mesh

@@ -212,6 +212,25 @@ class _Names(ast.NodeVisitor):
         for default in node.args.defaults:
             self.visit(default)
 
+    def _comprehension(self, node):
+        """A comprehension has a scope of its own: its loop variables are neither assigned nor needed at the
+        cell's top level (``[f.index for f in model.faces]`` needs ``model`` only); its first iterable is
+        evaluated in the cell's scope."""
+        self.visit(node.generators[0].iter)
+        inner = _Names()
+        for part in [g.target for g in node.generators] + [g.iter for g in node.generators[1:]]:
+            inner.visit(part)
+        for g in node.generators:
+            for condition in g.ifs:
+                inner.visit(condition)
+        for part in ("elt", "key", "value"):
+            if getattr(node, part, None) is not None:
+                inner.visit(getattr(node, part))
+        for name in sorted(set(inner.loaded) - set(inner.stored), key=inner.loaded.get):
+            self._note(self.loaded, name, node)
+
+    visit_ListComp = visit_SetComp = visit_DictComp = visit_GeneratorExp = _comprehension
+
     def visit_alias(self, node):
         name = node.asname or node.name.split(".")[0]
         if name != "*":
