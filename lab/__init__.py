@@ -26,8 +26,20 @@ import importlib
 import importlib.abc
 import importlib.util
 import sys
+import warnings
 
 __version__ = "0.1.0"
+
+
+def _formatwarning(message, category, filename, lineno, line=None, *, _plain=warnings.formatwarning):
+    """The lab's own warnings (a degenerate point, a focal sheet at infinity …) as one line, ``Name: message``:
+    a student reads what happened, not a library path and the source line that raised it."""
+    if getattr(category, "__module__", "").partition(".")[0] == __name__:
+        return f"{category.__name__}: {message}\n"
+    return _plain(message, category, filename, lineno, line)
+
+
+warnings.formatwarning = _formatwarning
 
 #: The layers, bottom first: a module of a layer imports only from its own layer and the ones before it.
 LAYERS = ("i18n", "geometry", "mesh", "model", "interrogation", "view", "teaching")

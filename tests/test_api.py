@@ -44,3 +44,15 @@ def test_practical_constants_and_views():
     for method in ("set_curvature", "set_colors"):
         assert callable(getattr(patch, method))
     assert patch.curvature.shape == (2, 2) and patch.colors.shape == (2, 2, 3)
+
+
+def test_the_labs_warnings_read_as_one_line():
+    """A student sees 'DegeneratePointWarning: …', not the library's path and source line; others are unchanged."""
+    import warnings
+
+    from lab.geometry.curvature import DegeneratePointWarning
+
+    text = warnings.formatwarning("3 degenerate points", DegeneratePointWarning, "/lab/x.py", 5, "source line")
+    assert text == "DegeneratePointWarning: 3 degenerate points\n"
+    other = warnings.formatwarning("hi", UserWarning, "/elsewhere/y.py", 5, "source line")
+    assert other.startswith("/elsewhere/y.py:5: UserWarning: hi") and "source line" in other
