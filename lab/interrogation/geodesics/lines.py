@@ -19,6 +19,7 @@ import numpy as np
 from ...geometry import validation as _v
 from ...geometry.curvature import DegeneratePointWarning
 from ...geometry.directions import eigen
+from ...i18n import _
 from .integrator import _integrate_fan, _solve_one
 from .paths import PATH_BYTES, PATH_BYTES_PER_SAMPLE, _make_paths
 from .problem import (
@@ -87,8 +88,8 @@ def _finish(problem, paths, surface):
                 n_umbilic += 1
         out.append(p)
     if n_umbilic:
-        warnings.warn(f"{n_umbilic} line(s) of curvature stopped just before an umbilic (κ1 = κ2), where the "
-                      "principal directions are undefined", UmbilicWarning, stacklevel=3)
+        warnings.warn(_("{n} line(s) of curvature stopped just before an umbilic (κ1 = κ2), where the principal "
+                        "directions are undefined").format(n=n_umbilic), UmbilicWarning, stacklevel=3)
     return out
 
 

@@ -158,12 +158,16 @@ class Path:
 
     def __repr__(self):
         end = {"length": _("full length"), "boundary": _("hit the boundary"), "trim": _("left the face"),
-               "degenerate": _("stopped at a degenerate point")}
+               "degenerate": _("stopped at a degenerate point"), "umbilic": _("stopped before an umbilic")}
         kinds = {"geodesic": _("geodesic"), "normal-section": _("normal section"),
                  "line of curvature (k1)": _("line of curvature (k1)"), "line of curvature (k2)": _("line of curvature (k2)")}
+        if not np.isfinite(self.angle):  # a line of curvature starts along a principal direction, not at an angle
+            return "Path({})".format(decimal(_("{kind}, length={length}, {end}, {n} samples").format(
+                kind=kinds.get(self.kind, self.kind), length=f"{self.length:.6g}", end=end.get(self.end, self.end),
+                n=len(self.s))))
         return "Path({})".format(decimal(_("{kind}, angle={angle}, length={length}, {end}, {n} samples").format(
             kind=kinds.get(self.kind, self.kind), angle=f"{self.angle:.6g}", length=f"{self.length:.6g}",
-            end=end[self.end], n=len(self.s))))
+            end=end.get(self.end, self.end), n=len(self.s))))
 
 
 @dataclass(frozen=True, eq=False)
