@@ -13,13 +13,14 @@ def weingarten(bu, bv, buu, buv, bvv, *, mistake=None):
     N = N / np.linalg.norm(N)
     G = np.array([[bu @ bu, bu @ bv], [bu @ bv, bv @ bv]])
     H = np.array([[N @ buu, N @ buv], [N @ buv, N @ bvv]])
-    S = {None: np.linalg.solve(G, H), "H": H, "transposed": H @ np.linalg.inv(G), "swap": np.linalg.solve(G, H),
-         "unnormalised": np.linalg.solve(G, H), "flat": np.linalg.solve(G, H)}[mistake]
+    S = H if mistake == "H" else H @ np.linalg.inv(G) if mistake == "transposed" else np.linalg.solve(G, H)
     k, w = np.linalg.eig(S)
-    order = np.argsort(-k.real) if mistake != "swap" else np.argsort(k.real)
+    order = {"swap": np.argsort(k.real), "unsorted": np.arange(2)}.get(mistake, np.argsort(-k.real))
     w = w.real[:, order]
     if mistake == "flat":
         return np.array([[w[0, 0], w[1, 0], 0.0], [w[0, 1], w[1, 1], 0.0]])
+    if mistake == "rows":  # the rows of the eigenvector matrix instead of its columns
+        w = w.T
     d = np.stack([w[0, i] * bu + w[1, i] * bv for i in range(2)])
     return 3 * d if mistake == "unnormalised" else d / np.linalg.norm(d, axis=1, keepdims=True)
 
@@ -47,6 +48,8 @@ def test_expected_agrees_with_the_library(rng):
         ("H", "eigenvectors of the second fundamental form H alone"),
         ("transposed", "the transpose of the Weingarten map"),
         ("flat", "not orthogonal in space"),
+        ("unsorted", "d1 and d2 are swapped"),  # numpy's order: the public case z = x²/4 + y² has κ1 second
+        ("rows", "the rows of the eigenvector matrix"),
     ],
 )
 def test_each_mistake_gets_its_hint(mistake, hint):

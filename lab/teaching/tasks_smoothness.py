@@ -103,6 +103,8 @@ def _cases(rng, graded):
     fixed = [
         (_("orthonormal parameters, z = x² + y²/4: d1 along x"),
          (np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), np.array([0, 0, 2.0]), z, np.array([0, 0, 0.5]))),
+        (_("orthonormal parameters, z = x²/4 + y²: d1 along y (the larger curvature comes second)"),
+         (np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), np.array([0, 0, 0.5]), z, np.array([0, 0, 2.0]))),
         (_("skewed, stretched parameters (F ≠ 0, E ≠ G): the first fundamental form matters"),
          (np.array([2.0, 0, 0]), np.array([1.0, 1.0, 0]), np.array([0, 0, 1.0]), np.array([0, 0, 0.5]),
           np.array([0, 0, -1.0]))),
@@ -139,11 +141,28 @@ def _hint(case, value, exp):
         wrong = exact(*case.args, variant=variant)
         if _same_line(unit, wrong) or _same_line(unit, wrong[::-1]):
             return text
+    rows = _rows_of_eigenvectors(*case.args)
+    if rows is not None and (_same_line(unit, rows) or _same_line(unit, rows[::-1])):
+        return _("these come from the rows of the eigenvector matrix: numpy's eig returns the eigenvectors as its "
+                 "columns, w[:, i] belongs to the eigenvalue k[i].")
     if abs(unit[0] @ unit[1]) > 1e-6:
         return _("the two directions are not orthogonal in space: map the eigenvectors w of S to space as "
                  "d = w1 b_u + w2 b_v (not (w1, w2, 0)).")
     return _("the eigenvectors w of S = G⁻¹H (2 × 2, in the parameter plane) give d = w1 b_u + w2 b_v; "
              "sort them by their eigenvalues κ1 ≥ κ2 and normalise.")
+
+
+def _rows_of_eigenvectors(bu, bv, buu, buv, bvv):
+    """What taking the rows instead of the columns of numpy's eigenvector matrix of S = G⁻¹H gives (unit, sorted)."""
+    N = np.cross(bu, bv)
+    N = N / np.linalg.norm(N)
+    G = np.array([[bu @ bu, bu @ bv], [bu @ bv, bv @ bv]])
+    H = np.array([[N @ buu, N @ buv], [N @ buv, N @ bvv]])
+    k, w = np.linalg.eig(np.linalg.solve(G, H))
+    order = np.argsort(-k.real)
+    d = np.array([w.real[i, 0] * bu + w.real[i, 1] * bv for i in order])
+    norms = np.linalg.norm(d, axis=1)
+    return None if np.any(norms == 0) else d / norms[:, None]
 
 
 def _judge(case, value, exp):
