@@ -59,3 +59,9 @@ def _dropdown(options, value, description):
 def _layout():
     """A control that fills its grid cell (auto, not 100%: the widget's own margin would overflow the cell)."""
     return W.Layout(width="auto", min_width="0")
+
+
+def full_row():
+    """A text (a legend, a readout, the mesh's info) across the whole grid of controls, not squeezed into one
+    250 px cell, where it wrapped word by word."""
+    return W.Layout(grid_column="1 / -1", width="auto", min_width="0")

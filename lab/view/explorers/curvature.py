@@ -14,6 +14,7 @@ from ...model.patches import BezierPatches
 from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, checkpoint, style_for
+from .controls import full_row
 from .edges import EdgeOverlay
 from .models import ModelMeshes, face_borders, is_model
 from .tools import CurvatureTools
@@ -124,7 +125,10 @@ class CurvatureExplorer(Explorer):
         maps = dict(list(_H_MAPS.items())[:3]) if student else {**_H_MAPS, **_PERCEPTUAL}
         c = self._control
         self.measure = c(_dropdown(list(measures.items()), "gaussian", N_("measure")))
-        self.color_map = c(_dropdown(list(maps.items()), "linear", N_("colour map")))
+        # a real part's curvature spans orders of magnitude (linkrods: K from -184 at its fillets to 20): the
+        # linear map would paint it one colour; the signed log shows sign and size
+        first = "signed-log" if self.model is not None else "linear"
+        self.color_map = c(_dropdown(list(maps.items()), first, N_("colour map")))
         if self.model is None:
             self.depth = c(W.IntSlider(value=depth, min=0, max=max_depth, description=_("depth"), style=style_for(),
                                        continuous_update=False, layout=_layout()))
@@ -154,11 +158,11 @@ class CurvatureExplorer(Explorer):
                                          indent=False, layout=W.Layout(width="auto")))
         self.show_edges = c(W.Checkbox(value=False, description=_("edges by continuity"), indent=False,
                                        layout=W.Layout(width="auto")))
-        self.edge_legend = c(W.HTML())
+        self.edge_legend = c(W.HTML(layout=full_row()))
         self.edges = EdgeOverlay(self._base if self._base is not None else surface)
         self.fit_button = c(W.Button(description=_("fit view"), tooltip=_("the oblique view of the whole surface"),
                                      layout=W.Layout(width="auto")))
-        self.info = c(W.HTML())
+        self.info = c(W.HTML(layout=full_row()))
         self.clim = (0.0, 1.0)  # the range of values the colours span now (what the readouts show)
         self._manual = None
         if student:
