@@ -121,7 +121,7 @@ def graded(tmp_path_factory):
         fh.write(b'{"cells": [], "metadata": {}, "nbformat": 4, "nbformat_minor": 5, "x": "' + b"x" * (25 << 20) + b'"}')
     out = course / "reports"
     before = snapshot(course, out)
-    results = batch.grade_folder(subs, out, jobs=2, seed=20261201, assignment=ASSIGNMENT, timeout=8,
+    results = batch.grade_folder(subs, out, jobs=2, seed=20261201, assignment=ASSIGNMENT, timeout=15,
                                    check_timeout=2, total_timeout=240)
     summary = (out / "summary.csv").read_text()
     time.sleep(8)  # the detached processes of an attack would strike after 4 s

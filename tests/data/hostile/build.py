@@ -426,7 +426,7 @@ for _ in range(8):
     os.close(w)
     pipes.append(r)
     pids.append(pid)
-held, deadline = 0, time.time() + 6.5
+held, deadline = 0, time.time() + 12
 while pipes and time.time() < deadline:  # until each has said it holds its memory or has died (end of file)
     ready, _, _ = select.select(pipes, [], [], 0.2)
     for r in ready:
