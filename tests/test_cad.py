@@ -853,3 +853,18 @@ def test_a_part_read_from_a_file_is_written_with_its_own_topology(tmp_path):
         assert len(back.edges) == 99 and lab.continuity(back).counts() == lab.continuity(model).counts()
         u, v = (np.array([np.mean(x)]) for x in back.faces[13].domain)
         np.testing.assert_allclose(back.faces[13].curvature(u, v).H, model.faces[13].curvature(u, v).H, rtol=1e-12)
+
+
+@needs_data
+def test_faces_lost_to_a_damaged_step_file_are_said(tmp_path):
+    """A STEP file with entities cut out: OpenCASCADE's reader transfers the faces it can and says so only in its
+    log; lab.read counts the faces the file names and warns with the number lost. A folder is not a file."""
+    lines = (DATA / "step" / "linkrods.step").read_text().splitlines()
+    damaged = tmp_path / "holes.step"
+    damaged.write_text("\n".join(lines[:2999] + lines[3400:]) + "\n")
+    with pytest.warns(UserWarning, match=r"holes.step: the file names 37 faces .* OpenCASCADE transferred \d+: \d+ lost"):
+        model = lab.read(damaged)
+    assert len(model.faces) < 37
+    (tmp_path / "dir.step").mkdir()
+    with pytest.raises(ValueError, match="dir.step: is a folder, not a file"):
+        lab.read(tmp_path / "dir.step")

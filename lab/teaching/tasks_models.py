@@ -298,33 +298,33 @@ def _hint(case, got, exp):
     if got_set == set(m["absolute"]) and f is not None:
         kn, size = relative_gaussian(_surface(f))[0], _size(f)
         return Hint(_("face {i} is large (s ≈ {s}): its |K| is small in absolute terms, but max |K|·s² ≈ {k}. Compare "
-                      "K·s² with 1e-6, not K: K has the unit 1/length².").format(i=f["index"], s=f"{size:.3g}",
-                                                                                   k=f"{kn:.2g}"), "absolute")
+                      "K·s² with 1e-6, not K: K has the unit 1/length².").format(i=f["index"], s=decimal(f"{size:.3g}"),
+                                                                                   k=decimal(f"{kn:.2g}")), "absolute")
     f = _first(faces, extra, ("twisted",))
     if f is not None:
         kn = relative_gaussian(_surface(f))[0]
         return Hint(_("face {i} is made of straight lines (a twisted bilinear patch, a hyperbolic paraboloid) but not "
                       "developable: K < 0, max |K|·s² ≈ {k}. Ruled is not developable: the tangent plane must stay the "
-                      "same along each line.").format(i=f["index"], k=f"{kn:.2g}"), "ruled")
+                      "same along each line.").format(i=f["index"], k=decimal(f"{kn:.2g}")), "ruled")
     f = _first(faces, extra, ("bump",))
     if f is not None and f["index"] in m["corners"] and f["index"] not in m["absolute"]:
         kn = relative_gaussian(_surface(f))[0]
         return Hint(_("face {i} is flat at its corners and along its border, but a control point inside is lifted: "
                       "max |K|·s² ≈ {k} inside. Sample the whole face (every knot span, its interior too), not only "
-                      "corners.").format(i=f["index"], k=f"{kn:.2g}"), "corners")
+                      "corners.").format(i=f["index"], k=decimal(f"{kn:.2g}")), "corners")
     if missing:
         f = _first(faces, missing, DEVELOPABLE)
         s = _size(f)
         if s < 0.1:
             return Hint(_("face {i} is developable; it is tiny (s ≈ {s}), so rounding noise in K is large in absolute "
-                          "terms: compare K·s² with 1e-6, not K.").format(i=f["index"], s=f"{s:.2g}"), "tiny")
+                          "terms: compare K·s² with 1e-6, not K.").format(i=f["index"], s=decimal(f"{s:.2g}")), "tiny")
         kn = relative_gaussian(_surface(f))[0]
         return Hint(_("face {i} ({kind}) is developable: K = 0 everywhere (max |K|·s² ≈ {k}, rounding), yet your "
-                      "answer leaves it out.").format(i=f["index"], kind=f["kind"], k=f"{kn:.1g}"), "missing")
+                      "answer leaves it out.").format(i=f["index"], kind=f["kind"], k=decimal(f"{kn:.1g}")), "missing")
     f = _first(faces, extra, CURVED)
     kn = relative_gaussian(_surface(f))[0]
     return Hint(_("face {i} ({kind}) is not developable: max |K|·s² ≈ {k} on it.").format(
-        i=f["index"], kind=f["kind"], k=f"{kn:.2g}"), "extra")
+        i=f["index"], kind=f["kind"], k=decimal(f"{kn:.2g}")), "extra")
 
 
 def _judge(case, value, exp):
@@ -334,10 +334,11 @@ def _judge(case, value, exp):
         got = fmt(value) if isinstance(value, np.ndarray) else repr(value)
         return False, fmt(exp), got, _("return {what}.").format(what=_(_SUMMARY))
     got = np.unique(value.astype(int))
+    shown = lambda a: str(sorted(int(x) for x in np.ravel(a)))  # file indices as integers: [1, 3, 6]
     if len(got) != value.size:
-        return False, fmt(exp), fmt(value), _("each face once: an index appears twice in your answer.")
+        return False, shown(exp), shown(value), _("each face once: an index appears twice in your answer.")
     ok = set(got.tolist()) == set(exp.astype(int).tolist())
-    return ok, fmt(exp), fmt(np.sort(value)), "" if ok else _hint(case, got.tolist(), exp.astype(int).tolist())
+    return ok, shown(exp), shown(value), "" if ok else _hint(case, got.tolist(), exp.astype(int).tolist())
 
 
 def _error_hint(case, message):

@@ -52,8 +52,16 @@ def read(path, *, name=None, sew=None):
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path must be a file name (str or os.PathLike); got {type(path).__name__}")
     path = os.fspath(path)
+    if os.path.isdir(path):
+        raise ValueError(f"{path}: is a folder, not a file")
     if not os.path.isfile(path):
         raise FileNotFoundError(f"{path}: no such file")
+    if os.path.getsize(path) == 0:  # said before OpenCASCADE is imported (seconds)
+        from .occ import EXTENSIONS as _FORMATS
+
+        kind = {**_FORMATS, ".bez": "geomview Bézier", ".bbp": "geomview Bézier", ".3dm": "Rhino"}.get(
+            os.path.splitext(path)[1].lower(), "CAD")
+        raise ValueError(f"{path}: the file is empty; expected a {kind} file")
     ext = os.path.splitext(path)[1].lower()
     name = name or os.path.basename(path)
     from .occ import EXTENSIONS

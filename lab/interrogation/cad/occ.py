@@ -23,6 +23,7 @@ model's faces stay the file's (order, surfaces, parameters, loops and orientatio
 """
 
 import os
+import re
 import warnings
 
 import numpy as np
@@ -430,6 +431,18 @@ def _face(index, face):
                 maps=maps, exact=exact, deviation=deviation)
 
 
+_STEP_FACE = re.compile(rb"=\s*(?:ADVANCED_FACE|FACE_SURFACE)\s*\(")
+
+
+def step_face_count(path):
+    """How many faces a STEP file names (its ``ADVANCED_FACE`` and ``FACE_SURFACE`` entities), or None for
+    another format: a reader that skips a damaged entity transfers fewer, and says so only in its log."""
+    if EXTENSIONS.get(os.path.splitext(os.fspath(path))[1].lower()) != "STEP":
+        return None
+    with open(path, "rb") as fh:
+        return len(_STEP_FACE.findall(fh.read()))
+
+
 def read_occ(path, name=None, sew=None):
     """A :class:`Model` of a STEP, IGES or BREP file (see :func:`lab.read`).
 
@@ -458,6 +471,11 @@ def read_occ(path, name=None, sew=None):
     if face_map.Extent() == 0:
         raise ValueError(f"{os.fspath(path)}: the file holds no faces (only points, curves or an empty shape)")
     shapes = [_cast("Face")(face_map.FindKey(i + 1)) for i in range(face_map.Extent())]
+    named = step_face_count(path)
+    if named is not None and named > len(shapes):
+        warnings.warn(f"{os.fspath(path)}: the file names {named} faces (ADVANCED_FACE, FACE_SURFACE), OpenCASCADE "
+                      f"transferred {len(shapes)}: {named - len(shapes)} lost to damaged or unsupported entities "
+                      "(the model has the others)", UserWarning, stacklevel=3)
     faces, problems = [], []
     for index, f in enumerate(shapes):
         try:
