@@ -3,7 +3,9 @@
 include jupyter/setup.mk
 
 TEST_STAMP := $(VENV)/.installed-test
-TEST_APT_PACKAGES := chromium bubblewrap
+# Chromium for the browser tests, bubblewrap for the grader's sandbox, geomview and Xvfb for the test that Debian's
+# geomview shows the practical's CBEZ333 export (tests/test_geomview.py).
+TEST_APT_PACKAGES := chromium bubblewrap geomview xvfb
 
 .PHONY: test benchmarks exercises translations docs
 
