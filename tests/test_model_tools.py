@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import lab
+from tests.picture_support import assert_like_reference
 
 DATA = Path(os.environ.get("LAB_OCC_DATA", "/usr/share/opencascade/data"))
 needs_data = pytest.mark.skipif(not (DATA / "occ" / "hammer.brep").exists(),
@@ -259,7 +260,6 @@ def teapot():
 def test_picture_of_a_model_matches_stored_reference(teapot, tmp_path):
     """The teapot classified by the sign of K with its face borders, in the lab's style, against a stored picture;
     one legend for all faces; the borders drawn (dark grey) without the triangles' edges."""
-    import imageio.v3 as iio
 
     from lab.view import render
 
@@ -274,14 +274,7 @@ def test_picture_of_a_model_matches_stored_reference(teapot, tmp_path):
     assert [label.split()[0] for label, _c in legend.classes] == ["K", "K", "K"]  # one classification legend
     grey = lambda im: int(np.count_nonzero(np.all(np.abs(im.astype(int) - 58) < 25, axis=-1)))
     assert grey(image) > grey(plain) + 300  # the face borders
-    reference = TESTS / "data" / "model_teapot_gaussian_classification.png"
-    if os.environ.get("LAB_UPDATE_REFERENCES") or not reference.exists():
-        iio.imwrite(reference, image)
-    stored = iio.imread(reference)[..., :3].astype(float)
-    diff = np.abs(image.astype(float) - stored)
-    iio.imwrite(tmp_path / "picture.png", image)
-    # tolerance as test_pictures': another GL driver may shift anti-aliased edges by a pixel
-    assert diff.mean() < 3.0 and np.mean(np.any(diff > 40, axis=-1)) < 0.02, f"differs from {reference}; see {tmp_path}"
+    assert_like_reference(image, TESTS / "data" / "model_teapot_gaussian_classification.png", tmp_path)
 
 
 def test_command_line_renders_a_part_from_a_file_and_a_named_one(drilled, tmp_path):

@@ -12,6 +12,7 @@ from lab.widgets import CurvatureExplorer, FocalExplorer, GeodesicExplorer, Refl
 import lab
 from lab import surfaces
 from lab.view.explorers import base
+from tests.picture_support import assert_like_reference
 
 
 def sig4(x):
@@ -344,10 +345,7 @@ def test_reflection_explorer_kinds():
 def test_edge_overlay_colours_each_edge_by_what_it_achieves(tmp_path):
     """The hood's borders: the crease over the double knot v = 3 in G1's colour, the others G2's; the checkbox
     shows and hides it; an offscreen picture against a stored one (tolerance as test_mesh's)."""
-    import os
     from pathlib import Path
-
-    import imageio.v3 as iio
 
     from lab.view.explorers.edges import EDGE_COLORS, edge_lines
 
@@ -364,12 +362,7 @@ def test_edge_overlay_colours_each_edge_by_what_it_achieves(tmp_path):
     g1 = np.array([int(EDGE_COLORS["G1"][k:k + 2], 16) for k in (1, 3, 5)])
     assert np.count_nonzero(np.all(rgb == g1, axis=1)) == sum(len(e.points) - 1 for e in crease)
     image = ex.plotter.screenshot(str(tmp_path / "edges.png"), window_size=(480, 320))[..., :3]
-    reference = Path(__file__).parent / "data" / "explorer_edges_hood.png"
-    if os.environ.get("LAB_UPDATE_REFERENCES"):
-        iio.imwrite(reference, image)
-    stored = iio.imread(reference)[..., :3].astype(float)
-    diff = np.abs(image.astype(float) - stored)
-    assert diff.mean() < 3.0 and np.mean(np.any(diff > 40, axis=-1)) < 0.02, f"differs from {reference}"
+    assert_like_reference(image, Path(__file__).parent / "data" / "explorer_edges_hood.png", tmp_path)
     assert np.count_nonzero(np.all(np.abs(image.astype(int) - g1) < 30, axis=-1)) > 200  # the crease is drawn
     ex.show_edges.value = False
     ex.toggle_overlays()
