@@ -535,6 +535,64 @@ def test_an_iges_files_faces_are_sewn_to_find_their_shared_edges():
 
 
 @needs_data
+def test_an_iges_part_is_oriented_as_its_brep_solid_is(tmp_path):
+    """orient=True sews hammer.iges (whose faces carry no orientation) and orients its closed shell outwards:
+    every face gets hammer.brep's orientation (9 turned), so H has the BREP solid's sign on every face; the
+    shared edges carry the same orientations; written to STEP it is one solid with the faces in the file's
+    order and orientation.  A STEP solid is already oriented: nothing turns."""
+    from OCP.TopAbs import TopAbs_SOLID
+    from OCP.TopExp import TopExp_Explorer
+
+    from lab.interrogation.cad.occ import occ_shape
+
+    iges = lab.read(DATA / "iges" / "hammer.iges", orient=True)
+    brep = lab.read(DATA / "occ" / "hammer.brep")
+    assert iges.turned == 9 and lab.read(DATA / "iges" / "hammer.iges").turned is None
+    assert [f.reversed for f in iges.faces] == [f.reversed for f in brep.faces]
+    for a, b in zip(iges.faces, brep.faces):
+        uv = np.array(a.file_surface.centre)
+        ha, hb = a.curvature(*uv).H, b.curvature(*uv).H
+        assert np.sign(ha) == np.sign(hb) or max(abs(ha), abs(hb)) < 1e-9, (a, ha, hb)
+    assert len(iges.edges) == 104 and iges.sewn == pytest.approx(0.3704195, rel=1e-6)
+    assert all(e.reversed == (iges.faces[e.faces[0]].reversed, iges.faces[e.faces[1]].reversed) for e in iges.edges)
+    for a, b in zip(sorted(lab.continuity(iges).edges, key=lambda e: e.faces),
+                    sorted(lab.continuity(brep).edges, key=lambda e: e.faces)):
+        assert a.faces == b.faces and a.g1 == pytest.approx(b.g1, abs=1e-2)
+    path = lab.write(iges, tmp_path / "hammer.step")
+    assert TopExp_Explorer(occ_shape(path), TopAbs_SOLID).More()
+    back = lab.read(path)
+    assert [f.reversed for f in back.faces] == [f.reversed for f in iges.faces]
+    for a, b in zip(back.faces, iges.faces):
+        np.testing.assert_array_equal(a.surface.control_points, b.surface.control_points)
+    assert lab.read(DATA / "step" / "linkrods.step", orient=True).turned == 0
+    with pytest.raises(TypeError, match="orient must be True or False; got 'yes'"):
+        lab.read(DATA / "iges" / "hammer.iges", orient="yes")
+    (tmp_path / "patch.bez").write_text("BEZ113\n0 0 0  1 0 0  0 1 0  1 1 1\n")
+    with pytest.raises(ValueError, match=r"orient=True is for STEP, IGES and BREP files; a \.bez file"):
+        lab.read(tmp_path / "patch.bez", orient=True)
+
+
+@needs_data
+def test_an_open_shell_keeps_the_orientation_most_of_its_faces_have_in_the_file():
+    """An open shell has no outside: orient_shells turns it only when most of its faces would otherwise change
+    (shell1.brep, one open shell of 99 faces: with the file's orientations nothing turns; told the opposite,
+    all 99 turn).  Faces in no shell (wing.brep's 4) keep their own orientation."""
+    from lab.interrogation.cad.occ import _faces_of, occ_shape
+    from lab.interrogation.cad.sewing import orient_shells
+
+    for name, turns in (("shell1.brep", True), ("wing.brep", False)):
+        shape = occ_shape(DATA / "occ" / name)
+        _, face_map = _faces_of(shape)
+        owner = lambda f, face_map=face_map: face_map.FindIndex(f) - 1
+        file_reversed = {f.index: f.reversed for f in lab.read(DATA / "occ" / name).faces}
+        _, kept = orient_shells(shape, owner, file_reversed)
+        assert kept == file_reversed
+        opposite = {i: not r for i, r in file_reversed.items()}
+        _, told = orient_shells(shape, owner, opposite)
+        assert told == (opposite if turns else file_reversed), name
+
+
+@needs_data
 def test_a_model_pickles_with_its_edges(models):
     import pickle
 

@@ -18,7 +18,7 @@ def write(obj, path, *, drop_trims=False, sew=True):
     return _write(obj, path, drop_trims=drop_trims, sew=sew)
 
 
-def read(path, *, name=None, sew=None):
+def read(path, *, name=None, sew=None, orient=False):
     """Read a part: STEP (``.step``, ``.stp``), IGES (``.iges``, ``.igs``), BREP (``.brep``) or geomview's Bézier
     files (``.bez``, ``.bbp``: ``BEZuvn``, ``BBP``, ``CBEZuvn``, rational ``BEZuv4``, pure Python) or Rhino
     (``.3dm``, through rhino3dm).
@@ -33,6 +33,11 @@ def read(path, *, name=None, sew=None):
         ``None`` (default) when the file's faces have free edges (an IGES file's usually do), ``True``
         always, ``False`` never.  Sewing only finds edges; the faces stay the file's.  See
         :func:`lab.interrogation.cad.occ.read_occ`.
+    orient : bool
+        STEP, IGES and BREP files: orient the faces as a CAD system orients a joined part (the faces of each
+        sewn shell consistently, a closed shell outwards, an open one as most of its faces are in the file),
+        so that H has one sign over the part.  Meant for IGES files, whose faces carry no orientation: it sews
+        during the read.  ``model.turned`` says how many faces it turned.
 
     Returns
     -------
@@ -69,7 +74,10 @@ def read(path, *, name=None, sew=None):
     if ext in EXTENSIONS:
         from .occ import read_occ
 
-        return read_occ(path, name=name, sew=sew)
+        return read_occ(path, name=name, sew=sew, orient=orient)
+    if orient is not False:
+        raise ValueError(f"{path}: orient=True is for STEP, IGES and BREP files; a {ext} file's surfaces have no shells to "
+                         "orient")
     if ext in (".bez", ".bbp"):
         from .geomview import read_geomview
 

@@ -151,6 +151,9 @@ class Model:
     sewn : float or None
         The tolerance the file's faces were sewn with to find the shared edges (None: not sewn), known
         once :attr:`edges` is.
+    turned : int or None
+        How many faces ``lab.read(path, orient=True)`` turned to orient the part (None: read as the file
+        orients its faces).
     """
 
     def __init__(self, faces, edges=(), problems=(), path=None, name=None):
@@ -160,6 +163,7 @@ class Model:
         self.path = None if path is None else str(path)
         self.name = name
         self.sewn = None
+        self.turned = None
 
     @property
     def edges(self):

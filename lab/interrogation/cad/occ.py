@@ -443,7 +443,44 @@ def step_face_count(path):
         return len(_STEP_FACE.findall(fh.read()))
 
 
-def read_occ(path, name=None, sew=None):
+def _faces_of(shape):
+    """The shape's faces in the explorer's order (each once) and the map that numbers them."""
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp
+
+    face_map = _shape_map()
+    TopExp.MapShapes_s(shape, TopAbs_FACE, face_map)
+    return [_cast("Face")(face_map.FindKey(i + 1)) for i in range(face_map.Extent())], face_map
+
+
+def _sewn(path, shape, shapes, face_map, sew):
+    """``(shape, owner, sewing tolerance or None)``: the file's faces sewn if ``sew`` says so (None: when they
+    have free edges), else the file's shape; ``owner(face)`` is a face's file index (-1: none)."""
+    from .sewing import _ancestors, _free_edges, sew_faces
+
+    sewing = sew
+    if sewing is None:
+        sewing = len(shapes) > 1 and _free_edges(_ancestors(shape)) > 0
+    if sewing and len(shapes) > 1:
+        try:
+            return sew_faces(shape, shapes)
+        except Exception as exc:  # noqa: BLE001 - OCCT raises Standard_Failure subclasses: say so, keep the file's edges
+            warnings.warn(f"{os.fspath(path)}: sewing the faces failed ({type(exc).__name__}: {exc}); "
+                          "model.edges holds only the edges the file itself shares", UserWarning, stacklevel=4)
+    return shape, lambda f: face_map.FindIndex(f) - 1, None
+
+
+def oriented_shape(path, model):
+    """The shape of a model read with ``orient=True`` from ``path``, as it was oriented (for :func:`lab.write`)."""
+    from .sewing import orient_shells
+
+    shape = occ_shape(path)
+    shapes, face_map = _faces_of(shape)
+    sewn, owner, _ = _sewn(path, shape, shapes, face_map, None)
+    return orient_shells(sewn, owner, {f.index: f.reversed for f in model.faces})[0]
+
+
+def read_occ(path, name=None, sew=None, orient=False):
     """A :class:`Model` of a STEP, IGES or BREP file (see :func:`lab.read`).
 
     Parameters
@@ -456,21 +493,24 @@ def read_occ(path, name=None, sew=None):
         has free edges (edges of one face only, e.g. an IGES file's unsewn faces).  Sewing never changes
         the model's faces: they keep the file's order, surfaces, parameters, loops and orientation.  The
         edges are found (and the faces sewn) when ``model.edges`` is first used, not by the read.
+    orient : bool
+        Orient the faces as a CAD system orients a joined part (:func:`orient_shells`): the faces of each
+        shell consistently, closed shells outwards, so that H has one sign convention over the part.  For
+        IGES files, whose faces carry no orientation.  Sews (as ``sew`` says) during the read and sets each
+        ``Face.reversed`` from the oriented shells; ``model.orientation`` says how many faces it turned.
     """
     from OCP.BRep import BRep_Tool
-    from OCP.TopAbs import TopAbs_FACE
-    from OCP.TopExp import TopExp
 
-    from .sewing import _ancestors, _free_edges, _shared_edges, sew_faces
+    from .sewing import _shared_edges, orient_shells
 
     if sew not in (None, True, False):
         raise TypeError(f"sew must be True, False or None (sew when the file's faces are not sewn); got {sew!r}")
+    if orient not in (True, False):
+        raise TypeError(f"orient must be True or False; got {orient!r}")
     shape = occ_shape(path)
-    face_map = _shape_map()
-    TopExp.MapShapes_s(shape, TopAbs_FACE, face_map)  # the explorer's order, each face once
-    if face_map.Extent() == 0:
+    shapes, face_map = _faces_of(shape)  # the explorer's order, each face once
+    if not shapes:
         raise ValueError(f"{os.fspath(path)}: the file holds no faces (only points, curves or an empty shape)")
-    shapes = [_cast("Face")(face_map.FindKey(i + 1)) for i in range(face_map.Extent())]
     named = step_face_count(path)
     if named is not None and named > len(shapes):
         warnings.warn(f"{os.fspath(path)}: the file names {named} faces (ADVANCED_FACE, FACE_SURFACE), OpenCASCADE "
@@ -490,16 +530,19 @@ def read_occ(path, name=None, sew=None):
 
     def find_edges():
         """``(edges, sewing tolerance or None)``, run once when ``model.edges`` is first used."""
-        sewing = sew
-        if sewing is None:
-            sewing = len(shapes) > 1 and _free_edges(_ancestors(shape)) > 0
-        if sewing and len(shapes) > 1:
-            try:
-                sewn, owner, tolerance = sew_faces(shape, shapes)
-                return _shared_edges(sewn, owner, domains), tolerance
-            except Exception as exc:  # noqa: BLE001 - OCCT raises Standard_Failure subclasses: say so, keep the file's edges
-                warnings.warn(f"{os.fspath(path)}: sewing the faces failed ({type(exc).__name__}: {exc}); "
-                              "model.edges holds only the edges the file itself shares", UserWarning, stacklevel=3)
-        return _shared_edges(shape, lambda f: face_map.FindIndex(f) - 1, domains), None
+        sewn, owner, tolerance = _sewn(path, shape, shapes, face_map, sew)
+        return _shared_edges(sewn, owner, domains), tolerance
+
+    if orient:
+        sewn, owner, tolerance = _sewn(path, shape, shapes, face_map, sew)
+        oriented, senses = orient_shells(sewn, owner, {f.index: f.reversed for f in faces})
+        turned = 0
+        for f in faces:
+            if f.index in senses and senses[f.index] != f.reversed:
+                f.reversed, turned = senses[f.index], turned + 1
+        found = (_shared_edges(oriented, owner, domains), tolerance)
+        model = Model(faces, lambda: found, problems, path=os.fspath(path), name=name)
+        model.turned = turned
+        return model
 
     return Model(faces, find_edges, problems, path=os.fspath(path), name=name)

@@ -9,7 +9,7 @@ import numpy as np
 from .curves import _cast, _clip, _shape_map, curve2d_values, curve3d_values
 from .model import Edge
 
-__all__ = ["PCURVE_SAMPLES", "SEW_RTOL", "sew_faces"]
+__all__ = ["PCURVE_SAMPLES", "SEW_RTOL", "orient_shells", "sew_faces"]
 
 #: Samples per shared edge (the 3-D curve and both pcurves at the same parameters).
 PCURVE_SAMPLES = 24
@@ -99,6 +99,89 @@ def sew_faces(shape, faces, tolerance=None):
         return owners[k - 1] if k > 0 else -1
 
     return sewn, owner, float(tolerance)
+
+
+def orient_shells(shape, owner, file_reversed):
+    """The faces of a sewn part oriented as a CAD system orients a joined part.
+
+    Within a shell the faces are consistent as sewing leaves them; a closed shell is made a solid and turned
+    to face outwards (``BRepLib::OrientClosedSolid``, as a STEP or BREP solid is); an open shell, which has no
+    outside, is turned so that most of its faces keep the file's orientation.  Faces in no shell keep theirs.
+
+    Parameters
+    ----------
+    shape : TopoDS_Shape
+        The sewn part (or the file's shape when its faces already share their edges).
+    owner : callable
+        ``owner(face)``: the file index of a face of ``shape`` (-1: none).
+    file_reversed : dict
+        File index -> the face's orientation in the file (``Face.reversed``).
+
+    Returns
+    -------
+    oriented : TopoDS_Compound
+        The solids, open shells and loose faces, oriented, each with its faces in the file's order (a part
+        in one shell is written in the file's face order).
+    reversed : dict
+        File index -> its orientation in ``oriented``.
+    """
+    from OCP.BRep import BRep_Builder, BRep_Tool
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeSolid
+    from OCP.BRepLib import BRepLib
+    from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED, TopAbs_SHELL
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS_Compound, TopoDS_Shell, TopoDS_Solid
+
+    def faces(piece):
+        """``[(file index, face as oriented in piece), ...]`` in the file's order."""
+        out = {}
+        walk = TopExp_Explorer(piece, TopAbs_FACE)
+        while walk.More():
+            i = owner(walk.Current())
+            if i >= 0:
+                out.setdefault(i, walk.Current())
+            walk.Next()
+        return sorted(out.items(), key=lambda item: item[0])
+
+    builder = BRep_Builder()
+    pieces = []  # (first file index, shell or solid rebuilt with its faces in the file's order)
+    loose = []
+    shells = TopExp_Explorer(shape, TopAbs_SHELL)
+    while shells.More():
+        piece = shells.Current()
+        closed = BRep_Tool.IsClosed_s(piece)
+        if closed:
+            solid = BRepBuilderAPI_MakeSolid(_cast("Shell")(piece)).Solid()
+            closed = BRepLib.OrientClosedSolid_s(solid)  # False: not a valid solid; treated as an open shell
+            if closed:
+                piece = solid
+        found = faces(piece)
+        if not closed and 2 * sum((f.Orientation() == TopAbs_REVERSED) == file_reversed.get(i, False)
+                                  for i, f in found) < len(found):
+            found = [(i, f.Reversed()) for i, f in found]
+        shell = TopoDS_Shell()
+        builder.MakeShell(shell)
+        for _i, f in found:
+            builder.Add(shell, f)
+        shell.Closed(closed)
+        if closed:
+            solid = TopoDS_Solid()
+            builder.MakeSolid(solid)
+            builder.Add(solid, shell)
+            shell = solid
+        if found:
+            pieces.append((found[0][0], shell))
+        shells.Next()
+    walk = TopExp_Explorer(shape, TopAbs_FACE, TopAbs_SHELL)
+    while walk.More():
+        loose += faces(walk.Current())
+        walk.Next()
+    oriented = TopoDS_Compound()
+    builder.MakeCompound(oriented)
+    for _i, piece in sorted(pieces + loose, key=lambda item: item[0]):
+        builder.Add(oriented, piece)
+    reversed_ = {i: f.Orientation() == TopAbs_REVERSED for i, f in faces(oriented)}
+    return oriented, reversed_
 
 
 def _shared_edges(shape, owner, domains):

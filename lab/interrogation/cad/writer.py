@@ -275,7 +275,8 @@ def write(obj, path, *, drop_trims=False, sew=True):
         ``.brep``/``.step`` with several faces built by the lab: sew them (at :data:`SEW_RTOL` of the part's
         size) into one shell, in their order and orientation, so that the part keeps shared edges; ``False``:
         loose faces in a compound.  A model read from a STEP, IGES or BREP file is written from the file's own shape
-        (its exact edges, shells and solids: a conversion, e.g. IGES to STEP), not face by face.
+        (its exact edges, shells and solids: a conversion, e.g. IGES to STEP), not face by face; read with
+        ``orient=True``, as its sewn and oriented shells and solids.
 
     Returns
     -------
@@ -333,12 +334,12 @@ def write(obj, path, *, drop_trims=False, sew=True):
 
 def _file_shape(obj):
     """The OpenCASCADE shape of a model read from a STEP, IGES or BREP file that is still there, else None."""
-    from .occ import EXTENSIONS, occ_shape
+    from .occ import EXTENSIONS, occ_shape, oriented_shape
 
     path = getattr(obj, "path", None) if isinstance(obj, Model) else None
     if path is None or os.path.splitext(path)[1].lower() not in EXTENSIONS or not os.path.isfile(path):
         return None
-    return occ_shape(path)
+    return occ_shape(path) if obj.turned is None else oriented_shape(path, obj)
 
 
 def _write_shape(shape, path, ext):
