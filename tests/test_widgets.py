@@ -253,6 +253,19 @@ def test_widget_layout_fills_the_output():
     grid = next(c for c in w.children if isinstance(c, W.GridBox))
     assert "auto-fill" in grid.layout.grid_template_columns  # controls wrap into as many columns as fit
     assert "lab-colorbar" in e.legend_view.value and "Gaussian curvature K" in e.legend_view.value
+    # every text meant to span the grid's full row is a cell of the grid itself (inside a box in one
+    # column, the probe's readout wrapped word by word in a 250 px column)
+    rows = [c for c in grid.children if c.layout.grid_column == "1 / -1"]
+    assert e.tools.readout in rows and e.info in rows and e.edge_legend in rows
+
+    def nested(box):
+        for child in getattr(box, "children", ()):
+            yield child
+            yield from nested(child)
+
+    inside = [c for c in grid.children for d in nested(c) if d.layout.grid_column == "1 / -1"]
+    assert inside == []
+    e.close()
 
 
 def test_students_class_errors_become_messages():

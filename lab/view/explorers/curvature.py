@@ -188,7 +188,7 @@ class CurvatureExplorer(Explorer):
                 W.HBox([self.show_net, self.show_borders, self.show_edges, self.fit_button],
                        layout=W.Layout(width="auto", justify_content="space-between", align_items="center",
                                        flex_flow="row wrap")),
-                self.edge_legend, self.info] + ([self.tools.box()] if self.tools is not None else [])
+                self.edge_legend, self.info] + (self.tools.controls() if self.tools is not None else [])
 
     # -- geometry -------------------------------------------------------------
 

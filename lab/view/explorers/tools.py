@@ -86,10 +86,12 @@ class CurvatureTools:
         """True when a CAD map (not the curvature) colours the surface."""
         return self.map.value != "curvature"
 
-    def box(self):
+    def controls(self):
+        """The tools' controls, each a cell of the explorer's grid (the probe's readout a full row of it: in one
+        column of its own it wrapped word by word)."""
         face = [self.face] if self.face is not None else []
-        return W.VBox([self.map, self.pull, self.radius, *face, self.combs, self.comb_scale, self.comb_density,
-                       self.comb_count, self.probe, self.u, self.v, self.readout], layout=W.Layout(width="auto"))
+        return [self.map, self.pull, self.radius, *face, self.combs, self.comb_scale, self.comb_density,
+                self.comb_count, self.probe, self.u, self.v, self.readout]
 
     # -- the face of a model --------------------------------------------------------------------
 
