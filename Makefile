@@ -1,5 +1,8 @@
 # Two commands: `make lab` (set up, open JupyterLab on exercises/en or exercises/de) and `make test` (set up, run every test).
 # The set-up and `make lab` are in jupyter/setup.mk, which the students' hand-out (`curvature-lab release`) uses too.
+# The tests run the versions the hub image pins (deploy/constraints.txt; tests/test_deploy.py checks that they are
+# all pinned): a package released on PyPI since does not change what CI tests.
+PIP_CONSTRAINTS := -c deploy/constraints.txt
 include jupyter/setup.mk
 
 TEST_STAMP := $(VENV)/.installed-test
@@ -12,7 +15,7 @@ TEST_APT_PACKAGES := chromium bubblewrap geomview xvfb
 # The test set-up adds the test tools (pytest, Playwright, JupyterHub, potpourri3d …) and configurable-http-proxy
 # (npm) for the JupyterHub test.
 $(TEST_STAMP): $(STAMP)
-	$(PIP) install -q -e ".[test]"
+	$(PIP) install -q $(PIP_CONSTRAINTS) -e ".[test]"
 	@command -v npm >/dev/null && (mkdir -p $(VENV)/node && cd $(VENV)/node && \
 	  npm install --silent --no-fund --no-audit configurable-http-proxy@5) || echo "npm missing: the JupyterHub test will be skipped"
 	@touch $(TEST_STAMP)

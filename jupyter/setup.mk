@@ -34,9 +34,12 @@ $(PY):
 OVERRIDES := $(VENV)/share/jupyter/lab/settings/overrides.json
 
 # What the lab needs, with the extra "cad" (OpenCASCADE, rhino3dm, pyiges: lab.read of STEP/IGES/BREP/3dm files and
-# lab.models); the course repository's test set-up adds the test tools.
+# lab.models); the course repository's test set-up adds the test tools.  PIP_CONSTRAINTS: the course repository
+# installs the versions deploy/constraints.txt pins (those the tests ran and the hub image installs), not whatever
+# PyPI released since; the students' hand-out leaves it empty.
+PIP_CONSTRAINTS ?=
 $(STAMP): pyproject.toml jupyter/overrides.json jupyter/settings.py | $(PY)
-	$(PIP) install -q -e ".[cad]"
+	$(PIP) install -q $(PIP_CONSTRAINTS) -e ".[cad]"
 	$(PY) jupyter/settings.py $(LAB_LANGUAGE) $(OVERRIDES)
 	@touch $(STAMP)
 
