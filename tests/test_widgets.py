@@ -257,6 +257,9 @@ def test_widget_layout_fills_the_output():
     # column, the probe's readout wrapped word by word in a 250 px column)
     rows = [c for c in grid.children if c.layout.grid_column == "1 / -1"]
     assert e.tools.readout in rows and e.info in rows and e.edge_legend in rows
+    # ipywidgets drops grid_column when it first draws (its issue #2334): a class and a rule in the title do it
+    assert all("lab-full-row" in c._dom_classes for c in rows)
+    assert ".lab-controls > .lab-full-row {grid-column: 1 / -1}" in w.children[0].children[0].value
 
     def nested(box):
         for child in getattr(box, "children", ()):

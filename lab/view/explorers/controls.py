@@ -61,7 +61,14 @@ def _layout():
     return W.Layout(width="auto", min_width="0")
 
 
+#: The grid columns a full row spans.
+FULL_ROW = "1 / -1"
+#: ipywidgets drops a layout's ``grid_column`` when it first draws a widget (it applies only later changes:
+#: ipywidgets issue #2334), so the explorer also gives these widgets the class ``lab-full-row`` and this rule.
+FULL_ROW_CSS = f"<style>.lab-controls > .lab-full-row {{grid-column: {FULL_ROW}}}</style>"
+
+
 def full_row():
     """A text (a legend, a readout, the mesh's info) across the whole grid of controls, not squeezed into one
     250 px cell, where it wrapped word by word."""
-    return W.Layout(grid_column="1 / -1", width="auto", min_width="0")
+    return W.Layout(grid_column=FULL_ROW, width="auto", min_width="0")
