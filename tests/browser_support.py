@@ -437,7 +437,12 @@ LAYOUT_JS = """
     if (r.x < Math.max(box.x, out.x) - 1 || r.x + r.w > Math.min(box.x + box.w, out.x + out.w) + 1)
       outside.push(`${el.className} "${el.textContent.trim().slice(0, 30)}" at ${Math.round(r.x)}..${Math.round(r.x + r.w)}, box ${Math.round(box.x)}..${Math.round(box.x + box.w)}`);
   }
-  return {view: view ? rect(view) : null, output: out, explorer: box, clipped, outside,
+  // texts meant to span the controls' grid (.lab-full-row) that sit in one column instead
+  const grid = explorer.querySelector('.lab-controls');
+  const narrow = grid ? Array.from(grid.querySelectorAll(':scope > .lab-full-row'))
+    .filter(el => el.textContent.trim() && el.getBoundingClientRect().width < 0.9 * grid.getBoundingClientRect().width)
+    .map(el => `"${el.textContent.trim().slice(0, 30)}" ${Math.round(el.getBoundingClientRect().width)} px of ${Math.round(grid.getBoundingClientRect().width)}`) : [];
+  return {view: view ? rect(view) : null, output: out, explorer: box, clipped, outside, narrow,
           labels: explorer.querySelectorAll('.lab-colorbar-label, .lab-legend-item').length};
 }
 """

@@ -271,6 +271,7 @@ def _check_layout(nb, tag):
             problems.append(f"explorer {k}: view {g['view']['w']:.0f} px wide in an output of {g['output']['w']:.0f} px")
         problems += [f"explorer {k}: clipped {c}" for c in g["clipped"]]
         problems += [f"explorer {k}: outside {c}" for c in g["outside"]]
+        problems += [f"explorer {k}: a full-row text in one column: {c}" for c in g["narrow"]]
         if k == 0 and not g["labels"]:
             problems.append("explorer 0: no colour bar labels")
     assert not problems, f"{tag}: " + "; ".join(problems) + f"; screenshot {nb.shot(tag)}"
