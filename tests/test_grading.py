@@ -208,6 +208,18 @@ def test_with_bubblewrap_no_protection_is_missing_but_the_process_limit_where_cg
     assert all("process count" in m for m in result.missing_protections)
 
 
+def test_a_v2_cgroup_gets_no_swap_where_the_host_has_swap(tmp_path):
+    """On cgroup v2 the submission's memory limit also forbids swap (memory.swap.max = 0) where the file exists:
+    a submission at its limit is killed, it does not page out to the disk."""
+    from lab.teaching import cgroups
+
+    (tmp_path / "memory.swap.max").write_text("max\n")
+    cgroups._no_swap(tmp_path)
+    assert (tmp_path / "memory.swap.max").read_text().strip() == "0"
+    cgroups._no_swap(tmp_path / "absent")  # no swap accounting: nothing to do, no error
+    assert not (tmp_path / "absent").exists()
+
+
 def test_a_corrupt_notebook_scores_zero_of_the_assignments_points(tmp_path):
     (tmp_path / "00_start.ipynb").write_text('{"cells": [ broken')
     result = grading.grade_notebook(tmp_path / "00_start.ipynb")

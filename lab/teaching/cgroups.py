@@ -2,7 +2,8 @@
 
 One :class:`Cgroup` per graded submission, created below the grader's own control groups:
 
-* **memory** (v1 ``memory.limit_in_bytes``, v2 ``memory.max``): every process of the submission together,
+* **memory** (v1 ``memory.limit_in_bytes`` and ``memory.memsw.limit_in_bytes``, v2 ``memory.max`` and
+  ``memory.swap.max = 0`` where the host has swap): every process of the submission together,
   including the pages it writes to a tmpfs (its private ``/tmp`` and its working folder), so six processes
   of 400 MiB or 1.5 GiB written to ``/tmp`` meet one limit;
 * **pids** (``pids.max``): processes and threads together, so a fork bomb stops at the cap;
@@ -103,6 +104,14 @@ class Cgroup:
                     time.sleep(0.05)
 
 
+def _no_swap(d):
+    """v2 on a host with swap: a submission at its memory limit is killed instead of paging out to the disk
+    (which slows every other submission); nothing where the kernel has no swap accounting."""
+    if (d / "memory.swap.max").exists():
+        with contextlib.suppress(OSError):
+            _write(d / "memory.swap.max", 0)
+
+
 def create(memory, processes, *, root=ROOT):
     """A fresh :class:`Cgroup` limiting a submission to ``memory`` bytes and ``processes`` tasks with the same
     CPU weight as every other submission; returns ``(cgroup or None, [names of missing limits])``."""
@@ -125,6 +134,7 @@ def create(memory, processes, *, root=ROOT):
                 _write(d / file, value)
             except OSError:
                 missing.append(what)
+        _no_swap(d)
         return Cgroup(dirs, 2), missing
     for controller, settings, what in (
             ("memory", (("memory.limit_in_bytes", memory), ("memory.memsw.limit_in_bytes", memory)),
