@@ -77,6 +77,15 @@ def exact(bu, bv, buu, buv, bvv, *, variant="right"):
     return np.array(out)
 
 
+def _weingarten(bu, bv, buu, buv, bvv):
+    """The Weingarten map S = G⁻¹H (floats) with N = b_u × b_v/|b_u × b_v|: for choosing nets and for the mistakes a
+    student makes with numpy (the exact answer is :func:`exact`)."""
+    N = np.cross(bu, bv)
+    N = N / np.linalg.norm(N)
+    G = np.array([[bu @ bu, bu @ bv], [bu @ bv, bv @ bv]])
+    return np.linalg.solve(G, np.array([[N @ buu, N @ buv], [N @ buv, N @ bvv]]))
+
+
 def _net(rng):
     """A bicubic net on a 1/4 grid, near a graph over the plane, whose corner is regular and far from an umbilic."""
     while True:
@@ -88,9 +97,7 @@ def _net(rng):
         Q = np.cross(d[0], d[1])
         if np.linalg.norm(Q) < 0.5:
             continue
-        N = Q / np.linalg.norm(Q)
-        G = np.array([[d[0] @ d[0], d[0] @ d[1]], [d[0] @ d[1], d[1] @ d[1]]])
-        k = np.sort(np.linalg.eigvals(np.linalg.solve(G, np.array([[N @ d[2], N @ d[3]], [N @ d[3], N @ d[4]]]))).real)
+        k = np.sort(np.linalg.eigvals(_weingarten(*d)).real)
         if k[1] - k[0] < 0.1 * (abs(k[0]) + abs(k[1]) + 0.1):
             continue
         return P, d
@@ -154,11 +161,7 @@ def _hint(case, value, exp):
 
 def _rows_of_eigenvectors(bu, bv, buu, buv, bvv):
     """What taking the rows instead of the columns of numpy's eigenvector matrix of S = G⁻¹H gives (unit, sorted)."""
-    N = np.cross(bu, bv)
-    N = N / np.linalg.norm(N)
-    G = np.array([[bu @ bu, bu @ bv], [bu @ bv, bv @ bv]])
-    H = np.array([[N @ buu, N @ buv], [N @ buv, N @ bvv]])
-    k, w = np.linalg.eig(np.linalg.solve(G, H))
+    k, w = np.linalg.eig(_weingarten(bu, bv, buu, buv, bvv))
     order = np.argsort(-k.real)
     d = np.array([w.real[i, 0] * bu + w.real[i, 1] * bv for i in order])
     norms = np.linalg.norm(d, axis=1)

@@ -497,7 +497,7 @@ def read_occ(path, name=None, sew=None, orient=False):
         Orient the faces as a CAD system orients a joined part (:func:`orient_shells`): the faces of each
         shell consistently, closed shells outwards, so that H has one sign convention over the part.  For
         IGES files, whose faces carry no orientation.  Sews (as ``sew`` says) during the read and sets each
-        ``Face.reversed`` from the oriented shells; ``model.orientation`` says how many faces it turned.
+        ``Face.reversed`` from the oriented shells; ``model.turned`` says how many faces it turned.
     """
     from OCP.BRep import BRep_Tool
 
@@ -540,8 +540,9 @@ def read_occ(path, name=None, sew=None, orient=False):
         for f in faces:
             if f.index in senses and senses[f.index] != f.reversed:
                 f.reversed, turned = senses[f.index], turned + 1
-        found = (_shared_edges(oriented, owner, domains), tolerance)
-        model = Model(faces, lambda: found, problems, path=os.fspath(path), name=name)
+        # the shared edges of the oriented shells, found when first used as the file's are
+        model = Model(faces, lambda: (_shared_edges(oriented, owner, domains), tolerance), problems,
+                      path=os.fspath(path), name=name)
         model.turned = turned
         return model
 

@@ -64,11 +64,13 @@ def _layout():
 #: The grid columns a full row spans.
 FULL_ROW = "1 / -1"
 #: ipywidgets drops a layout's ``grid_column`` when it first draws a widget (it applies only later changes:
-#: ipywidgets issue #2334), so the explorer also gives these widgets the class ``lab-full-row`` and this rule.
+#: ipywidgets issue #2334), so these texts also have the class ``lab-full-row`` and the explorer this rule.
 FULL_ROW_CSS = f"<style>.lab-controls > .lab-full-row {{grid-column: {FULL_ROW}}}</style>"
 
 
-def full_row():
-    """A text (a legend, a readout, the mesh's info) across the whole grid of controls, not squeezed into one
-    250 px cell, where it wrapped word by word."""
-    return W.Layout(grid_column=FULL_ROW, width="auto", min_width="0")
+def full_row_text():
+    """An HTML text (a legend, a readout, the mesh's info) across the whole grid of controls, not squeezed into
+    one 250 px cell, where it wrapped word by word (the layout, and the class for :data:`FULL_ROW_CSS`)."""
+    text = W.HTML(layout=W.Layout(grid_column=FULL_ROW, width="auto", min_width="0"))
+    text.add_class("lab-full-row")
+    return text

@@ -14,7 +14,7 @@ from ...model.patches import BezierPatches
 from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, checkpoint, style_for
-from .controls import full_row
+from .controls import full_row_text
 from .edges import EdgeOverlay
 from .models import ModelMeshes, face_borders, is_model
 from .tools import CurvatureTools
@@ -158,11 +158,11 @@ class CurvatureExplorer(Explorer):
                                          indent=False, layout=W.Layout(width="auto")))
         self.show_edges = c(W.Checkbox(value=False, description=_("edges by continuity"), indent=False,
                                        layout=W.Layout(width="auto")))
-        self.edge_legend = c(W.HTML(layout=full_row()))
+        self.edge_legend = c(full_row_text())
         self.edges = EdgeOverlay(self._base if self._base is not None else surface)
         self.fit_button = c(W.Button(description=_("fit view"), tooltip=_("the oblique view of the whole surface"),
                                      layout=W.Layout(width="auto")))
-        self.info = c(W.HTML(layout=full_row()))
+        self.info = c(full_row_text())
         self.clim = (0.0, 1.0)  # the range of values the colours span now (what the readouts show)
         self._manual = None
         if student:

@@ -25,7 +25,7 @@ from ...interrogation.reflection import VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
-from .controls import full_row
+from .controls import full_row_text
 from .edges import EdgeOverlay
 from .models import default_point, face_mesh
 
@@ -153,7 +153,7 @@ class ReflectionExplorer(Explorer):
                                  readout_format=".2f"))
         self.show_edges = c(W.Checkbox(value=False, description=_("edges by continuity"), indent=False,
                                        layout=W.Layout(width="auto")))
-        self.edge_legend = c(W.HTML(layout=full_row()))
+        self.edge_legend = c(full_row_text())
         self.edges = EdgeOverlay(surface)
         self._build_scene()
         for w in (self.kind, self.count, self.azimuth, self.elevation, self.orientation, self.spacing):

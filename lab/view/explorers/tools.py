@@ -21,7 +21,7 @@ from ...interrogation.probe import probe, probe_lines
 from .. import legend as _legend
 from .. import style
 from .base import _dropdown, _layout, style_for
-from .controls import full_row
+from .controls import full_row_text
 from .models import default_point, face_label
 
 #: the pull directions offered (label, vector)
@@ -70,7 +70,7 @@ class CurvatureTools:
                                  continuous_update=False, style=style_for(), layout=_layout()))
         self.v = c(W.FloatSlider(value=0.5 * (v0 + v1), min=v0, max=v1, step=(v1 - v0) / 200, description="v",
                                  continuous_update=False, style=style_for(), layout=_layout()))
-        self.readout = c(W.HTML(layout=full_row()))
+        self.readout = c(full_row_text())
         self.lines_actor = None
         self.last_probe = None
         if self.model is not None:
