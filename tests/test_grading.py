@@ -206,6 +206,23 @@ def test_without_bubblewrap_the_report_names_the_missing_protections():
 def test_with_bubblewrap_no_protection_is_missing_but_the_process_limit_where_cgroups_are_read_only():
     result = grading.grade_notebook(SOLUTION / "00_start.ipynb")
     assert all("process count" in m for m in result.missing_protections)
+    if not any("memory" in m for m in result.missing_protections):  # the cgroup measured the whole submission
+        assert 50 << 20 < result.peak_memory < 1 << 30, result.peak_memory  # a kernel and the checks: not 2 GiB
+        assert not any("memory limit" in n for n in result.notes)
+    assert grading.GradeResult.from_dict(result.to_dict()).peak_memory == result.peak_memory
+
+
+def test_a_submission_at_its_memory_limit_is_told_so_in_its_language():
+    from lab import i18n
+
+    limit = sandbox.MEMORY
+    assert grading._memory_notes(None, limit) == [] and grading._memory_notes(limit // 2, limit) == []
+    assert grading._memory_notes(limit, limit) == [
+        "the submission used 2048 MiB of its 2048 MiB memory limit (all of it, for all its processes together): "
+        "a kernel at the limit is killed or slowed down"]
+    with i18n.using("de"):
+        assert grading._memory_notes(limit - (1 << 20), limit)[0].startswith(
+            "die Abgabe hat 2047 MiB ihres Speicherlimits von 2048 MiB belegt")
 
 
 def test_a_v2_cgroup_gets_no_swap_where_the_host_has_swap(tmp_path):

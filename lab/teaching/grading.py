@@ -82,6 +82,8 @@ class GradeResult:
     lang: str = "en"
     student: str = ""
     sha256: str = ""
+    #: The largest memory use of the whole submission (bytes, from its cgroup), or None where none was measured.
+    peak_memory: int = None
 
     @property
     def score(self):
@@ -101,7 +103,7 @@ class GradeResult:
                 "seed": self.seed, "score": self.score, "max_score": self.max_score, "passed": self.passed,
                 "tasks": self.tasks, "cell_errors": self.cell_errors, "notes": self.notes,
                 "missing_protections": self.missing_protections, "error": self.error,
-                "seconds": round(self.seconds, 2), "sha256": self.sha256}
+                "seconds": round(self.seconds, 2), "sha256": self.sha256, "peak_memory": self.peak_memory}
 
     @classmethod
     def from_dict(cls, data):
@@ -247,8 +249,9 @@ def _undefined_message(nb, obj, cell_errors):
         name=obj, cell=index, error=error["error"])
 
 
-def _grade_in_sandbox(raw, prepared, *, timeout, check_timeout, total_timeout, memory, disk, use_sandbox):
-    """Run the submission ``raw`` in a sandbox; return (outcomes per task, cell errors, missing protections, notes)."""
+def _grade_in_sandbox(raw, prepared, result, *, timeout, check_timeout, total_timeout, memory, disk, use_sandbox):
+    """Run the submission ``raw`` in a sandbox; fill ``result``'s cell errors, missing protections and peak memory;
+    return (outcomes per task, notes, whether the results are invalid)."""
     with tempfile.TemporaryDirectory(prefix="lab-grade-") as tmp:
         box = Sandbox(prepared.package, Path(tmp) / "work", memory=memory, disk=disk, use_bwrap=use_sandbox,
                       lang=prepared.lang)
@@ -258,18 +261,19 @@ def _grade_in_sandbox(raw, prepared, *, timeout, check_timeout, total_timeout, m
             (work / "submission.ipynb").write_bytes(raw)
             spec = prepared.spec(inside / "submission.ipynb", inside / "out", timeout, check_timeout)
             (work / "spec.json").write_text(json.dumps(spec))
-            result = {}
+            ran = {}
 
             def run():
-                result["run"] = box.run([sys.executable, "-m", "lab.teaching.child", str(inside / "spec.json")],
-                                        total_timeout)
+                ran["run"] = box.run([sys.executable, "-m", "lab.teaching.child", str(inside / "spec.json")],
+                                     total_timeout)
 
             worker = threading.Thread(target=run)
             worker.start()
             prepared.expected()  # the answers, while the sandbox runs
             worker.join()
-            code, timed_out, stderr = result["run"]
-            notes = []
+            code, timed_out, stderr = ran["run"]
+            result.missing_protections, result.peak_memory = box.missing, box.peak_memory
+            notes = _memory_notes(box.peak_memory, memory)
             try:
                 folder = open_folder(work / "out")
                 try:
@@ -282,14 +286,24 @@ def _grade_in_sandbox(raw, prepared, *, timeout, check_timeout, total_timeout, m
                 outcomes, cell_errors, complete = [{} for _ in prepared.cases], [], True
                 notes.append(_("invalid results: the graded run's output was changed or is malformed ({error}); "
                                "the submission scores 0").format(error=clean(exc, 300)))
-                return outcomes, cell_errors, box.missing, notes, True
+                result.cell_errors = cell_errors
+                return outcomes, notes, True
         if timed_out:
             notes.append(_("the submission was stopped after {seconds} s (its time limit); cases not reached score 0")
                          .format(seconds=f"{total_timeout:g}"))
         elif code != 0 and not complete:
             notes.append(_("the graded run ended abnormally (exit status {code}): {stderr}").format(
                 code=code, stderr=clean(stderr.strip()[-300:], 300)))
-        return outcomes, cell_errors, box.missing, notes, False
+        result.cell_errors = cell_errors
+        return outcomes, notes, False
+
+
+def _memory_notes(peak, memory):
+    """A note when the submission used (nearly) all of its memory: the cause of a killed kernel or of a stall."""
+    if peak is None or peak < 0.95 * memory:
+        return []
+    return [_("the submission used {peak} MiB of its {limit} MiB memory limit (all of it, for all its processes "
+              "together): a kernel at the limit is killed or slowed down").format(peak=peak >> 20, limit=memory >> 20)]
 
 
 def _check_limits(timeout, check_timeout, total_timeout, memory, disk):
@@ -356,8 +370,8 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
                                 Prepared.package_for(found, own))
         try:
             result.assignment, result.seed = found.id, prepared.seed
-            outcomes, result.cell_errors, result.missing_protections, notes, invalid = _grade_in_sandbox(
-                raw, prepared, timeout=timeout, check_timeout=check_timeout, total_timeout=total_timeout,
+            outcomes, notes, invalid = _grade_in_sandbox(
+                raw, prepared, result, timeout=timeout, check_timeout=check_timeout, total_timeout=total_timeout,
                 memory=memory, disk=disk, use_sandbox=sandbox)
             expected = prepared.expected()
         finally:
