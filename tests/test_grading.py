@@ -218,8 +218,8 @@ def test_a_submission_at_its_memory_limit_is_told_so_in_its_language():
     limit = sandbox.MEMORY
     assert grading._memory_notes(None, limit) == [] and grading._memory_notes(limit // 2, limit) == []
     assert grading._memory_notes(limit, limit) == [
-        "the submission used 2048 MiB of its 2048 MiB memory limit (all of it, for all its processes together): "
-        "a kernel at the limit is killed or slowed down"]
+        ("the submission used 2048 MiB of its 2048 MiB memory limit (all of it, for all its processes together): "
+         "a kernel at the limit is killed or slowed down")]
     with i18n.using("de"):
         assert grading._memory_notes(limit - (1 << 20), limit)[0].startswith(
             "die Abgabe hat 2047 MiB ihres Speicherlimits von 2048 MiB belegt")
