@@ -183,6 +183,23 @@ def test_folder_of_submissions_with_reports_summary_and_gradescope(tmp_path):
     assert gs["score"] == 2 and gs["tests"][0]["max_score"] == 2 and gs["tests"][0]["status"] == "passed"
 
 
+def test_a_sandbox_that_cannot_import_the_lab_stops_a_folder_run_before_any_zero(tmp_path, monkeypatch, capsys):
+    """A broken installation (here: the library the sandbox shows is an empty folder) would give every student
+    0 points with the reason only in each report: the folder run refuses to start instead."""
+    empty = tmp_path / "site" / "lab"
+    empty.mkdir(parents=True)
+    monkeypatch.setattr(sandbox, "LAB_DIR", empty)
+    monkeypatch.setattr(batch, "LAB_DIR", empty)
+    (tmp_path / "subs" / "ada").mkdir(parents=True)
+    shutil.copy(SOLUTION / "00_start.ipynb", tmp_path / "subs" / "ada" / "00_start.ipynb")
+    code = batch.main([str(tmp_path / "subs"), "--out", str(tmp_path / "out")] +
+                      ([] if sandbox.bwrap_works() else ["--no-sandbox"]))
+    err = capsys.readouterr().err
+    assert code == 2 and "so every student would get 0 points; nothing was graded" in err, err
+    assert "No module named 'lab.teaching'" in err, err
+    assert not (tmp_path / "out" / "summary.csv").exists() and not list((tmp_path / "out").glob("ada*"))
+
+
 def test_cli_json_gradescope_and_exit_status(capsys):
     path = SOLUTION / "00_start.ipynb"
     assert batch.main([str(path), "--json"]) == 0

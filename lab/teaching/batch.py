@@ -51,7 +51,7 @@ from .grading import (
     submission_language,
     write_atomic,
 )
-from .sandbox import DISK, MEMORY, bwrap_works
+from .sandbox import DISK, LAB_DIR, MEMORY, bwrap_works, probe
 from .untrusted import clean, csv_cell, plain_file
 
 __all__ = ["SUMMARY_COLUMNS", "GradingError", "find_submissions", "grade_folder", "main", "read_summary", "report_names",
@@ -191,6 +191,10 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
     notebooks, refused = find_submissions(folder, skip=out_dir)
     if not notebooks and not refused:
         raise GradingError(f"no notebooks (.ipynb) in {folder}")
+    if (broken := probe(use_bwrap=sandbox)) is not None:
+        raise GradingError(f"the sandbox cannot start a submission's kernel here ({sys.executable} with the lab "
+                           f"in {LAB_DIR}), so every student would get 0 points; nothing was graded. Check the "
+                           f"installation. The sandbox said:\n{broken}")
     names = report_names(folder, notebooks + [p for p, _ in refused])
     seed = _run_record(out_dir, seed, assignment, resume)
     jobs = max(1, jobs or os.cpu_count() or 1)

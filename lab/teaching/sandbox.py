@@ -36,7 +36,7 @@ from ..i18n import N_, _
 from . import cgroups
 from .runner import stub_source
 
-__all__ = ["Sandbox", "bwrap_works", "prepare_package"]
+__all__ = ["Sandbox", "bwrap_works", "prepare_package", "probe"]
 
 LAB_DIR = Path(__file__).resolve().parents[1]
 #: Teaching modules the sandbox keeps: they call the student's code and hold no answers.
@@ -213,8 +213,10 @@ class Sandbox:
             "PYTHONDONTWRITEBYTECODE": "1", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1",
             "MKL_NUM_THREADS": "1", "PYTHONHASHSEED": "0", "LP_NUM_THREADS": "1",
         }
+        # the copy is found first, whatever else the interpreter would find (an editable install's finder
+        # points at a source tree the sandbox does not show)
+        env["PYTHONPATH"] = str(LAB_DIR.parent if self.bwrap else self.package.parent)
         if not self.bwrap:
-            env["PYTHONPATH"] = str(self.package.parent)
             env["TMPDIR"] = str(self.workdir / ".tmp")  # on the working folder's budget, not the host's /tmp
         return env
 
@@ -288,3 +290,21 @@ class Sandbox:
         if self.cgroup is not None:
             self.peak_memory = self.cgroup.peak_memory()
             self.cgroup.remove()
+
+
+def probe(*, use_bwrap=None, timeout=300):
+    """Whether a submission's kernel can start here: import the grader's child in a sandbox with the library.
+
+    Returns None, or what went wrong (the end of its stderr).  A folder run calls it first, so a broken
+    installation (the sandbox cannot import ``lab``, no Python inside) stops the run instead of giving every
+    student 0 points.
+    """
+    with tempfile.TemporaryDirectory(prefix="lab-probe-") as tmp:
+        box = Sandbox(LAB_DIR, Path(tmp) / "work", use_bwrap=use_bwrap)
+        with box.workspace():
+            code, timed_out, stderr = box.run([sys.executable, "-c", "import lab.teaching.child"], timeout)
+    if timed_out:
+        return f"importing the lab in the sandbox took more than {timeout:g} s"
+    if code != 0:
+        return stderr.strip()[-1500:] or f"exit status {code}"
+    return None
