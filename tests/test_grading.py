@@ -290,3 +290,35 @@ def test_the_file_name_decides_the_assignment_and_a_claim_is_noted(tmp_path):
     other = grading.grade_notebook(tmp_path / "my_work.ipynb")
     assert other.assignment == "09_dill_gallery" and other.tasks == [] and not other.passed
     assert "no graded tasks" in other.text()
+
+
+def test_a_name_error_after_a_failed_defining_cell_says_which_cell_failed():
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("import lab"),
+                                         nbformat.v4.new_code_cell("mine = make()\nmine.visualize_curvature(0, 0)"),
+                                         nbformat.v4.new_code_cell("mine.show()"),
+                                         nbformat.v4.new_code_cell("other.show()")])
+    errors = [{"cell": 1, "kind": "timeout", "error": "stopped after 15 s (endless loop?)"},
+              {"cell": 2, "kind": "error", "error": "NameError: name 'mine' is not defined"},
+              {"cell": 3, "kind": "error", "error": "NameError: name 'other' is not defined"}]
+    grading._explain_name_errors(nb, errors)
+    assert errors[1]["error"] == ("NameError: name 'mine' is not defined (cell 1, which defines mine, did not "
+                                  "finish: stopped after 15 s (endless loop?))")
+    assert errors[2]["error"] == "NameError: name 'other' is not defined"  # a typo stays a typo
+
+
+def test_a_german_report_writes_decimal_commas_and_a_missing_student_by_name():
+    task = {"task": "visualize_curvature", "object": "MyBezierPatches", "points": 10, "score": 4 / 18,
+            "passed": False, "report": ""}
+    result = grading.GradeResult("alice/05.ipynb", assignment="05_visualize_curvature", seed=1, lang="de",
+                                 tasks=[task])
+    assert result.text().startswith("alice/05.ipynb: 2,22 / 10 Punkte") and "2,22 / 10\n" in result.text() + "\n"
+    missing = grading.GradeResult("", student="frank", assignment="05_visualize_curvature", tasks=[{**task, "score": 0}])
+    assert missing.text().startswith("frank: 0 / 10 points")
+
+
+def test_an_empty_task_shows_no_answer_it_never_gave():
+    """The stub's text ("compute the chosen curvature …") is what to write, not what the code returned."""
+    result = grading.grade_notebook(EXERCISE / "00_start.ipynb", seed=2)
+    cases = result.tasks[0]["cases"]
+    assert cases and all(c["status"] == "not implemented" and c["got"] == "" for c in cases), cases
+    assert result.tasks[0]["message"] and cases[0]["hint"] == result.tasks[0]["message"]

@@ -102,3 +102,16 @@ def test_every_combination_of_degree_factors_is_found(m, n):
         assert all(mutants.fits(mu, t, nets, "H", got) for mu, t in found)  # each reproduces the values
         wrong = sum(f != r for f, r in zip(factors, right))
         assert min(mu.mistakes + t for mu, t in found) <= wrong  # never a more complicated story than the truth
+
+
+def test_leaving_out_every_degree_factor_earns_only_the_twisted_case():
+    """With b_uu = b_vv = 0, dropping every degree factor is the reparametrisation u -> m u, v -> n v: K and H
+    come out right on the twisted patch, which therefore does not make the flat cases count (an instructor's
+    review: 4 of 18 cases, 2.22 points, for an implementation that is wrong on every other curved patch)."""
+    rep = check.visualize_curvature(student_class("no_factors"), graded=True, seed=7)
+    passed = [c.name for c in rep.cases if c.passed]
+    assert [name[:10] for name in passed] == ["a twisted "], str(rep)
+    assert rep.score == pytest.approx(1 / 18), str(rep)
+    flat = [c for c in rep.cases if c.name.startswith(("tilted flat", "plane z = 0"))]
+    assert len(flat) == 3 and all("a curved case that decides the formulas" in c.hint for c in flat), str(rep)
+    assert "the derivative nets need the degree factors" in str(rep).splitlines()[1]

@@ -38,7 +38,7 @@ import nbformat
 import numpy as np
 
 from .. import i18n
-from ..i18n import _
+from ..i18n import _, decimal
 from . import assignments as _assignments
 from .protocol import encode_args
 from .results import InvalidResults, open_folder, read_cells, read_outcomes
@@ -120,8 +120,9 @@ class GradeResult:
         return text
 
     def _text(self):
-        head = _("{notebook}: {score} / {max} points").format(notebook=clean(self.notebook, 300),
-                                                               score=f"{self.score:g}", max=f"{self.max_score:g}")
+        head = _("{notebook}: {score} / {max} points").format(notebook=clean(self.notebook or self.student, 300),
+                                                               score=decimal(f"{self.score:g}"),
+                                                               max=decimal(f"{self.max_score:g}"))
         if self.assignment:
             head += "  " + _("(assignment {id}, seed {seed})").format(id=clean(self.assignment, 100),
                                                                      seed="–" if self.seed is None else self.seed)
@@ -131,8 +132,8 @@ class GradeResult:
         if not self.tasks and not self.error:
             lines.append("  " + _("no graded tasks: this notebook has nothing to pass (0 / 0 is not a pass)"))
         for t in self.tasks:
-            lines.append(f"- {t['task']} ({clean(t['object'], 100)}): {_points(t['points'] * t['score']):g} / "
-                         f"{t['points']:g}")
+            lines.append(f"- {t['task']} ({clean(t['object'], 100)}): "
+                         + decimal(f"{_points(t['points'] * t['score']):g} / {t['points']:g}"))
             lines.extend("    " + line for line in clean(t["report"], MAX_REPORT).splitlines())
         errors = [e for e in self.cell_errors if e.get("kind") not in WITHHELD]
         withheld = [str(e["cell"]) for e in self.cell_errors if e.get("kind") in WITHHELD]
@@ -247,6 +248,23 @@ def _undefined_message(nb, obj, cell_errors):
                  "exit or crash?)").format(name=obj, cell=index)
     return _("{name} was never defined: cell {cell}, which defines it, raised {error}").format(
         name=obj, cell=index, error=error["error"])
+
+
+_NAME_ERROR = re.compile(r"NameError: name '(\w+)' is not defined")
+
+
+def _explain_name_errors(nb, cell_errors):
+    """A NameError of a cell whose name an earlier cell should have defined but failed (stopped, raised): say so,
+    instead of a bare "name 'mine' is not defined" that reads as the student's typo."""
+    for e in cell_errors:
+        found = _NAME_ERROR.search(e.get("error", "")) if e.get("kind") == "error" else None
+        index = _defining_cell(nb, found.group(1)) if found else None
+        if index is None or not isinstance(e.get("cell"), int) or index >= e["cell"]:
+            continue
+        cause = next((c for c in cell_errors if c.get("cell") == index and c.get("kind") not in WITHHELD), None)
+        if cause is not None:
+            e["error"] = _("{error} (cell {cell}, which defines {name}, did not finish: {why})").format(
+                error=e["error"], cell=index, name=found.group(1), why=clean(cause["error"], 200))
 
 
 def _grade_in_sandbox(raw, prepared, result, *, timeout, check_timeout, total_timeout, memory, disk, use_sandbox):
@@ -378,6 +396,7 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
             if own is not None:
                 shutil.rmtree(own, ignore_errors=True)
         result.notes += notes
+        _explain_name_errors(nb, result.cell_errors)
         if invalid:
             result.tasks = _zero_tasks(found, notes[-1])
         for k, (name, obj, points) in enumerate(found.tasks if not invalid else ()):

@@ -3,7 +3,7 @@
 import numpy as np
 
 from ..geometry import colormaps
-from ..i18n import N_, _
+from ..i18n import N_, _, decimal
 from . import mutants as _mutants
 from .references import (
     MAP_LABELS,
@@ -101,7 +101,7 @@ def _render(mutant, transposed, m, n, labels=None):
 
 
 def _ratio_text(ratio):
-    return " " + _("(your values are {ratio} times the right ones)").format(ratio=f"{ratio:.6g}") if ratio else ""
+    return " " + _("(your values are {ratio} times the right ones)").format(ratio=decimal(f"{ratio:.6g}")) if ratio else ""
 
 
 def mutant_hint(found, m, n, ratio=None):
@@ -199,7 +199,7 @@ def diagnose_values(nets, mode, got, expected, atol=0.0):
         for value, name in names.items():
             if value != 1 and abs(ratio - value) <= 1e-6 * abs(value):
                 return _("your values are exactly {name} = {value} times the right ones: a degree factor is missing "
-                         "or doubled in a derivative net (practical section 3).").format(name=name, value=f"{value:g}")
+                         "or doubled in a derivative net (practical section 3).").format(name=name, value=decimal(f"{value:g}"))
     return _("compare your formulas with practical eqs. (3), (4) and section 3.")
 
 
@@ -214,11 +214,11 @@ def factor_hint(P, net, got, expected):
     labels = [label for label, value in _mutants.factor_choices(m, n)[net] if abs(value - used) <= 1e-9 * right]
     if not labels:
         return Hint(_("{net} is {ratio} times the right net: its degree factor is {right} = {value}, yours is "
-                      "{used} (practical section 3).").format(net=net, ratio=f"{ratio:.6g}", right=right_label,
-                                                              value=right, used=f"{used:.6g}"), f"factors:{net}")
+                      "{used} (practical section 3).").format(net=net, ratio=decimal(f"{ratio:.6g}"), right=right_label,
+                                                              value=right, used=decimal(f"{used:.6g}")), f"factors:{net}")
     return Hint(_("wrong degree factors (practical section 3): {list}.").format(
         list=_("{net} has the factor {used} = {value} instead of {right} = {right_value}").format(
-            net=_NET_TEXT[net], used=" or ".join(dict.fromkeys(labels)), value=f"{used:g}", right=right_label,
+            net=_NET_TEXT[net], used=" or ".join(dict.fromkeys(labels)), value=decimal(f"{used:g}"), right=right_label,
             right_value=right)), f"factors:{net}")
 
 

@@ -45,6 +45,9 @@ class CaseSpec:
     weight: float = 1.0
     info: dict = field(default_factory=dict)
     guard: bool = False  # a case a constant answer can pass by accident: counts only beside a passed ordinary one
+    #: False for an ordinary case that a wrong formula can pass (an invariance of its data): it counts, but it does
+    #: not make the guard cases count
+    decides: bool = True
 
 
 @dataclass(frozen=True)
@@ -120,6 +123,8 @@ def judge_outcome(task, case, outcome, expected_fn):
         hint = (_("write the computation yourself; allowed helpers: {helpers}.").format(helpers=task.allowed)
                 if task.allowed else _("write the computation yourself."))
         message = message or _("a withheld library function")
+    if status == "not implemented":  # the stub's text says what to write: a hint, not an answer it gave
+        return Case(case.name, False, "", "", message, "not implemented", case.weight)
     return Case(case.name, False, "", message, hint, _STATUS[status], case.weight, getattr(hint, "key", ""))
 
 
@@ -131,12 +136,12 @@ def build_report(task, specs, cases, *, graded=False, seed=None):
     from .report import Report, task_status
 
     cases = list(cases)
-    if not any(c.passed for c, spec in zip(cases, specs) if not spec.guard):
+    if not any(c.passed for c, spec in zip(cases, specs) if not spec.guard and spec.decides):
         for c, spec in zip(cases, specs):
             if spec.guard and c.passed:
                 c.status, c.passed, c.got = "failed", False, _("(right here, but nothing else is)")
                 c.hint = _("this case is flat, so a constant answer fits it by accident: it counts only "
-                           "when a curved case passes too.")
+                           "when a curved case that decides the formulas passes too.")
     if task.diagnose is not None and not all(c.passed for c in cases):
         task.diagnose(specs, cases)
     status = task_status(cases)
@@ -146,7 +151,7 @@ def build_report(task, specs, cases, *, graded=False, seed=None):
         first = next(c for c in cases if c.status not in ("passed", "not run"))
     if first is not None:
         if status == "not implemented":
-            message = first.got or _("{task} is not implemented yet.").format(task=task.name)
+            message = first.hint or _("{task} is not implemented yet.").format(task=task.name)
         elif status == "timeout":
             message = _("{task}: {message}").format(task=task.name, message=first.got)
         elif status == "delegated":
