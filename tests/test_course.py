@@ -443,3 +443,45 @@ def test_every_task_module_is_withheld_whole():
     """A task module added later (e.g. tasks_smoothness.py) holds cases and answers too: withheld without a list."""
     task_modules = {p.name for p in (ROOT / "lab" / "teaching").glob("tasks*.py")}
     assert "tasks_smoothness.py" in task_modules and task_modules <= set(release.WHOLE_MODULES)
+
+
+# -- feedback and gradebook on made-up reports (no grading needed) -------------------------------------------------
+
+def _report_folder(folder, *students, assignment=ID, score=0.75, late_seconds=None):
+    """A folder as ``curvature-lab grade`` leaves it: a report per student (``score`` of 10 points) and summary.csv."""
+    from lab.teaching.grading import GradeResult
+
+    folder.mkdir(parents=True)
+    with open(folder / "summary.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=batch.SUMMARY_COLUMNS)
+        w.writeheader()
+        for student in students:
+            res = GradeResult(notebook=f"{student}/{assignment}.ipynb", assignment=assignment, student=student, tasks=[
+                {"task": "visualize_curvature", "object": "MyBezierPatches", "points": 10, "score": score,
+                 "passed": False, "report": "", "message": "K is wrong at the corners", "cases": []}])
+            (folder / f"{student}__{assignment}.json").write_text(json.dumps(res.to_dict()))
+            w.writerow({"student": student, "notebook": res.notebook, "score": res.score, "max_score": res.max_score,
+                        "assignment": assignment, "late_seconds": "" if late_seconds is None else late_seconds})
+    return folder
+
+
+def test_feedback_keeps_a_page_the_student_edited(tmp_path):
+    """Only a page whose bytes are exactly what feedback wrote is replaced: a page the student added notes to stays,
+    and the new page is numbered (and replaced on the next run, being the command's own)."""
+    reports = _report_folder(tmp_path / "reports", "ada")
+    (tmp_path / "home" / "ada").mkdir(parents=True)
+    pages = tmp_path / "home" / "ada" / "feedback"
+    feedback.feedback([reports], tmp_path / "home")
+    first = (pages / f"{ID}.html").read_bytes()
+    assert "7.5 of 10 points" in first.decode()
+    feedback.feedback([reports], tmp_path / "home")  # unchanged: replaced in place, nothing numbered
+    assert (pages / f"{ID}.html").read_bytes() == first and sorted(p.name for p in pages.iterdir()) == [f"{ID}.html"]
+    with open(pages / f"{ID}.html", "a") as fh:
+        fh.write("<p>MY NOTES</p>\n")
+    feedback.feedback([reports], tmp_path / "home")
+    assert (pages / f"{ID}.html").read_bytes() == first + b"<p>MY NOTES</p>\n"  # the student's edit is kept
+    assert (pages / f"{ID}.2.html").read_bytes() == first
+    (pages / f"{ID}.2.html").write_bytes(first.replace(b"7.5 of 10", b"10 of 10"))  # edited inside, stamp kept
+    feedback.feedback([reports], tmp_path / "home")
+    assert b"10 of 10" in (pages / f"{ID}.2.html").read_bytes() and (pages / f"{ID}.3.html").read_bytes() == first
+    assert not list(pages.glob(".*"))  # no temporary file left behind

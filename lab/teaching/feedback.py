@@ -7,14 +7,18 @@ came out and the hint, then the notes.  JupyterLab opens it from the file browse
 
 Nothing else in a home is touched.  The page is written as the home's owner would have it (owner and group
 of the home), through descriptors opened without following links, so a ``feedback`` folder or file that a
-student replaced by a symbolic link is refused, never followed (the instructor may run this as root).  A
-``feedback/<assignment>.html`` that this command did not write is kept: the page goes next to it, with a
-number (``<assignment>.2.html``).
+student replaced by a symbolic link is refused, never followed (the instructor may run this as root).  Every
+page ends with a stamp, the SHA-256 of all its bytes before it, and a ``feedback/<assignment>.html`` is replaced
+only when it is exactly such a page: one the student edited or wrote (or a page written before the stamp) is
+kept, and the new page goes next to it with a number (``<assignment>.2.html``).  A stamp a student forges makes
+the command replace that file only, never another.
 """
 
 import argparse
+import hashlib
 import json
 import os
+import secrets
 import sys
 from pathlib import Path
 
@@ -22,16 +26,20 @@ from .. import i18n
 from ..i18n import N_, _
 from .grading import GradeResult
 from .pages import STATUS_COLOURS, e, page
-from .untrusted import clean
+from .untrusted import UntrustedError, clean, read_file
 
-__all__ = ["GENERATOR", "FeedbackError", "feedback", "main", "render", "write_into_home"]
+__all__ = ["GENERATOR", "STAMP", "FeedbackError", "feedback", "main", "render", "stamped", "write_into_home"]
 
 #: The statuses of a case, as a page shows them.
 STATUS_WORDS = {"passed": N_("passed"), "failed": N_("failed"), "error": N_("error"),
                 "not implemented": N_("not implemented"), "timeout": N_("timeout"), "delegated": N_("delegated"),
                 "not run": N_("not run")}
-#: Marks a page written by this command (a page without it is never replaced).
+#: Names this command in its pages.
 GENERATOR = "<meta name='generator' content='curvature-lab feedback'>"
+#: The last line of every page: the SHA-256 of all its bytes before it (see the module docstring).
+STAMP = "<!-- curvature-lab feedback sha256:{} -->\n"
+#: Largest file read back to check its stamp (bytes); a larger one is not a page of this command.
+MAX_PAGE = 64 << 20
 
 
 class FeedbackError(ValueError):
@@ -87,8 +95,21 @@ def _safe_name(text):
     return "".join(c if c.isalnum() or c in "._-" else "_" for c in str(text))[:120] or "feedback"
 
 
+def stamped(text):
+    """The bytes of the page ``text`` with its stamp (:data:`STAMP`)."""
+    data = text.encode()
+    return data + STAMP.format(hashlib.sha256(data).hexdigest()).encode()
+
+
+def _ours(data):
+    """Whether ``data`` is exactly a page of this command: it ends with the stamp of all its bytes before it."""
+    n = len(STAMP.format("0" * 64))
+    return len(data) > n and data[-n:] == STAMP.format(hashlib.sha256(data[:-n]).hexdigest()).encode()
+
+
 def write_into_home(home, name, text):
-    """Write ``text`` to ``home/feedback/<name>.html`` (see the module docstring); returns the path written."""
+    """Write the page ``text`` to ``home/feedback/<name>.html`` (see the module docstring); returns the path
+    written."""
     flags = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW
     try:
         home_fd = os.open(home, flags)
@@ -108,19 +129,16 @@ def write_into_home(home, name, text):
         try:
             if created and os.geteuid() == 0:
                 os.fchown(folder_fd, owner.st_uid, owner.st_gid)
-            target = f"{name}.html"
-            for k in range(2, 100):
+            for target in (f"{name}.html", *(f"{name}.{k}.html" for k in range(2, 100))):
                 if not _foreign(target, folder_fd):
                     break
-                target = f"{name}.{k}.html"
-            tmp = f".{target}.tmp"
-            try:
-                os.unlink(tmp, dir_fd=folder_fd)
-            except FileNotFoundError:
-                pass
+            else:
+                raise FeedbackError(f"{home}/feedback: {name}.html … {name}.99.html are all the student's: nothing "
+                                    "written")
+            tmp = f".{target}.{secrets.token_hex(8)}.tmp"  # a new name: no file of the student's is removed
             fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644, dir_fd=folder_fd)
-            with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                fh.write(text)
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(stamped(text))
                 if os.geteuid() == 0:
                     os.fchown(fh.fileno(), owner.st_uid, owner.st_gid)
             os.replace(tmp, target, src_dir_fd=folder_fd, dst_dir_fd=folder_fd)
@@ -132,15 +150,15 @@ def write_into_home(home, name, text):
 
 
 def _foreign(name, folder_fd):
-    """Whether ``name`` exists in the folder and was not written by this command (or is not a plain file)."""
+    """Whether ``name`` exists in the folder and is not exactly a page of this command (or not a plain file)."""
     try:
-        fd = os.open(name, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK, dir_fd=folder_fd)
+        os.stat(name, dir_fd=folder_fd, follow_symlinks=False)
     except FileNotFoundError:
         return False
-    except OSError:
+    try:
+        return not _ours(read_file(name, MAX_PAGE, dir_fd=folder_fd))
+    except UntrustedError:
         return True
-    with os.fdopen(fd, "rb") as fh:
-        return GENERATOR.encode() not in fh.read(4096)
 
 
 def _reports(folders):
