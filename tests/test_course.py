@@ -485,3 +485,18 @@ def test_feedback_keeps_a_page_the_student_edited(tmp_path):
     feedback.feedback([reports], tmp_path / "home")
     assert b"10 of 10" in (pages / f"{ID}.2.html").read_bytes() and (pages / f"{ID}.3.html").read_bytes() == first
     assert not list(pages.glob(".*"))  # no temporary file left behind
+
+
+def test_feedback_and_gradebook_refuse_one_assignment_in_two_folders(tmp_path, capsys):
+    late = _report_folder(tmp_path / "reports" / "05late", "ada", score=1.0, late_seconds=3600)
+    on_time = _report_folder(tmp_path / "reports" / "05", "ada", "bob")
+    (tmp_path / "home" / "ada").mkdir(parents=True)
+    message = f"ada has assignment {ID} in two report folders, {late} and {on_time}: pass only the one that counts"
+    with pytest.raises(feedback.FeedbackError) as caught:
+        feedback.feedback([late, on_time], tmp_path / "home")
+    assert str(caught.value) == message
+    assert not (tmp_path / "home" / "ada" / "feedback").exists()  # refused before any page is written
+    assert gradebook.main([str(late), str(on_time), "-o", str(tmp_path / "g.csv")]) == 2
+    assert capsys.readouterr().err == f"curvature-lab gradebook: error: {message}\n"
+    assert not (tmp_path / "g.csv").exists()
+    assert gradebook.main([str(on_time), str(on_time), "-o", str(tmp_path / "g.csv")]) == 0  # the same folder twice

@@ -12,6 +12,10 @@ page ends with a stamp, the SHA-256 of all its bytes before it, and a ``feedback
 only when it is exactly such a page: one the student edited or wrote (or a page written before the stamp) is
 kept, and the new page goes next to it with a number (``<assignment>.2.html``).  A stamp a student forges makes
 the command replace that file only, never another.
+
+One student's assignment in two report folders (``feedback reports/*`` with ``reports/05late``) is an error
+naming both, before any page is written; of a student's two notebooks in one folder the better is returned,
+the one the gradebook counts.
 """
 
 import argparse
@@ -24,6 +28,7 @@ from pathlib import Path
 
 from .. import i18n
 from ..i18n import N_, _
+from .gradebook import one_per_student
 from .grading import GradeResult
 from .pages import STATUS_COLOURS, e, page
 from .untrusted import UntrustedError, clean, read_file
@@ -162,13 +167,14 @@ def _foreign(name, folder_fd):
 
 
 def _reports(folders):
+    """``(folder, result)`` of every report in ``folders``."""
     for folder in folders:
         for path in sorted(Path(folder).glob("*.json")):
             if path.name == "run.json" or path.name.endswith(".results.json"):
                 continue
             data = json.loads(path.read_text())
             if isinstance(data, dict) and "tasks" in data and data.get("student"):
-                yield GradeResult.from_dict(data)
+                yield folder, GradeResult.from_dict(data)
 
 
 def feedback(reports, homes, *, log=sys.stderr):
@@ -176,9 +182,11 @@ def feedback(reports, homes, *, log=sys.stderr):
     homes = Path(homes)
     if not homes.is_dir():
         raise FeedbackError(f"{homes} is not a folder of homes")
-    written, seen = [], 0
-    for result in _reports(reports if isinstance(reports, (list, tuple)) else [reports]):
-        seen += 1
+    folders = reports if isinstance(reports, (list, tuple)) else [reports]
+    chosen = one_per_student(((folder, res.student, res.assignment, res.score, res)
+                              for folder, res in _reports(folders)), FeedbackError)
+    written = []
+    for result in chosen.values():
         home = homes / result.student
         if not home.is_dir() or home.is_symlink():
             print("curvature-lab feedback: " + _("no home for {student}: skipped").format(student=clean(result.student, 80)),
@@ -188,9 +196,10 @@ def feedback(reports, homes, *, log=sys.stderr):
             written.append(write_into_home(home, _safe_name(result.assignment or "feedback"), render(result)))
         except FeedbackError as exc:
             print(f"curvature-lab feedback: {exc}", file=log)
-    if not seen:
-        raise FeedbackError(f"no reports (<name>.json written by curvature-lab grade) in {', '.join(map(str, reports))}")
-    print(_("feedback for {n} of {total} reports").format(n=len(written), total=seen), file=log)
+    if not chosen:
+        raise FeedbackError(f"no reports (<name>.json written by curvature-lab grade) in "
+                            f"{', '.join(map(str, folders))}")
+    print(_("feedback for {n} of {total} reports").format(n=len(written), total=len(chosen)), file=log)
     return written
 
 

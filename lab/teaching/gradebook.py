@@ -10,6 +10,10 @@ One row per student, a column per assignment and a total, from the ``summary.csv
   ``--grace`` minutes), at most ``--late-cap`` percent; the lateness comes from ``collected.csv`` through
   the summary.
 
+One student's assignment in two report folders (``reports/05late reports/05``) is an error naming both: no
+order of the folders decides a grade.  In one folder a student with two notebooks of an assignment gets the
+better score.
+
 Formats:
 
 * ``csv``: ``student``, then per assignment its points and ``<id> late days``, then ``total`` and ``max``; the
@@ -33,10 +37,11 @@ from pathlib import Path
 from ..i18n import _
 from .batch import read_summary
 from .grading import write_atomic
-from .untrusted import csv_cell
+from .untrusted import clean, csv_cell
 from .written import read_written
 
-__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "gradebook", "main", "read_roster"]
+__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "gradebook", "main", "one_per_student", "read_roster",
+           "summary_rows"]
 
 FORMATS = ("csv", "canvas", "moodle")
 #: The first row of the ``csv`` layout, the points possible: not a user name (a student may be called max).
@@ -64,6 +69,29 @@ class LatePolicy:
         return 1 - min(self.cap, self.percent * self.days(late_seconds)) / 100
 
 
+def summary_rows(folder):
+    """``(student, row)`` of each row of ``folder/summary.csv`` (the user name without the quote that keeps a
+    spreadsheet from reading it as a formula)."""
+    return [(row["student"].lstrip("'"), row) for row in read_summary(Path(folder) / "summary.csv")]
+
+
+def one_per_student(items, error=None):
+    """``{(student, assignment): item}`` of ``(folder, student, assignment, score, item)``: of several items of one
+    folder (a student who handed in two notebooks) the better score counts; one student's assignment in two
+    folders raises ``error`` (default :class:`GradebookError`) naming both, since the order of the folders must
+    not decide a grade."""
+    found = {}
+    for folder, student, aid, score, item in items:
+        old = found.get((student, aid))
+        if old is not None and Path(old[0]).resolve() != Path(folder).resolve():
+            raise (error or GradebookError)(
+                f"{clean(student, 80)} has assignment {clean(aid, 80)} in two report folders, {old[0]} and {folder}: "
+                "pass only the one that counts")
+        if old is None or score > old[1]:
+            found[student, aid] = (folder, score, item)
+    return {key: item for key, (_folder, _score, item) in found.items()}
+
+
 def read_roster(path):
     """``{user name: row}`` from a roster CSV: Canvas's gradebook export (``SIS Login ID``) or any CSV with a
     ``username`` column (and optionally ``name``, ``id``, ``sis user id``, ``section``, ``email``, ``id number``)."""
@@ -81,28 +109,28 @@ def read_roster(path):
 
 
 def _assignments(folders):
-    """``{assignment id: {"max": points, "title": str, "rows": {student: row}}}`` from the summaries."""
-    found = {}
+    """``{assignment id: {"max": points, "rows": {student: row}}}`` from the summaries."""
+    found, items = {}, []
     for folder in folders:
         path = Path(folder) / "summary.csv"
         if not path.is_file():
             raise GradebookError(f"{folder}: no summary.csv (is it a folder of reports from curvature-lab grade?)")
-        for row in read_summary(path):
+        for student, row in summary_rows(folder):
             aid = row.get("assignment") or ""
             if not aid:
                 continue
             entry = found.setdefault(aid, {"max": 0.0, "rows": {}})
             try:
-                top = float(row.get("max_score") or 0)
+                top, score = float(row.get("max_score") or 0), float(row.get("score") or 0)
             except ValueError:
-                raise GradebookError(f"{path}: max_score {row.get('max_score')!r} is not a number") from None
+                raise GradebookError(f"{path}: score {row.get('score')!r} or max_score {row.get('max_score')!r} of "
+                                     f"{clean(student, 80)} is not a number") from None
             entry["max"] = max(entry["max"], top)
-            student = row["student"].lstrip("'")
-            old = entry["rows"].get(student)
-            if old is None or float(row.get("score") or 0) > float(old.get("score") or 0):
-                entry["rows"][student] = row  # a student with two notebooks of one assignment: the better counts
+            items.append((folder, student, aid, score, row))
     if not found:
         raise GradebookError("the summaries name no assignment")
+    for (student, aid), row in one_per_student(items).items():
+        found[aid]["rows"][student] = row
     return found
 
 
