@@ -500,3 +500,29 @@ def test_feedback_and_gradebook_refuse_one_assignment_in_two_folders(tmp_path, c
     assert capsys.readouterr().err == f"curvature-lab gradebook: error: {message}\n"
     assert not (tmp_path / "g.csv").exists()
     assert gradebook.main([str(on_time), str(on_time), "-o", str(tmp_path / "g.csv")]) == 0  # the same folder twice
+
+
+def _marks(path, text):
+    path.write_text(text)
+    return path
+
+
+def test_gradebook_refuses_written_points_without_their_reports(tmp_path, capsys):
+    reports05 = _report_folder(tmp_path / "reports" / "05", "ada")
+    reports04 = _report_folder(tmp_path / "reports" / "04", "ada", assignment="04_color_maps", score=0.0)
+    marks = _marks(tmp_path / "marked.csv", "student,assignment,question,max_points,points\n"
+                                            "ada,04_color_maps,bfbc93a2,3,2.5\n")
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(reports05), "--written", str(marks), "-o", str(out)]) == 2
+    assert capsys.readouterr().err == (
+        f"curvature-lab gradebook: error: {marks}: written points of assignment 04_color_maps, whose reports are not "
+        f"among the report folders ({ID}): pass the folder graded for 04_color_maps too (its autograded points and "
+        "lateness are part of the grade)\n")
+    assert not out.exists()
+    assert gradebook.main([str(reports05), str(reports04), "--written", str(marks), "-o", str(out)]) == 0
+    table = {r["student"]: r for r in rows_of(out)}
+    assert table["ada"]["04_color_maps"] == "2.5" and table["(max)"]["04_color_maps"] == "13.0"
+    assert table["ada"]["total"] == "10.0"  # 7.5 + 2.5
+    assert gradebook.main([str(reports05), str(reports04), "--written", str(marks), "--written", str(marks),
+                           "-o", str(out)]) == 2
+    assert f"ada's written points of 04_color_maps are in {marks} and in {marks}" in capsys.readouterr().err

@@ -5,7 +5,8 @@ One row per student, a column per assignment and a total, from the ``summary.csv
 
 * the autograded score (a student without a submission scores 0; students listed missing in the
   summary, from ``collect``'s ``collected.csv``, are included),
-* plus the written answers' points from marked ``written-<id>.csv`` files (``--written``),
+* plus the written answers' points from marked ``written-<id>.csv`` files (``--written``; the reports of
+  that assignment must be among the folders, else its grade would come out without them: an error),
 * minus a **late penalty**: ``--late-penalty P`` percent of the points per started day late (after
   ``--grace`` minutes), at most ``--late-cap`` percent; the lateness comes from ``collected.csv`` through
   the summary.
@@ -134,18 +135,34 @@ def _assignments(folders):
     return found
 
 
+def _marks(written, found):
+    """``{(student, assignment): (points, max points)}`` of the marked written CSVs, for assignments in ``found``."""
+    marks, source = {}, {}
+    for path in written:
+        for key, value in read_written(path).items():
+            student, aid = key
+            if aid not in found:
+                raise GradebookError(
+                    f"{path}: written points of assignment {clean(aid, 80)}, whose reports are not among the report "
+                    f"folders ({', '.join(sorted(found))}): pass the folder graded for {clean(aid, 80)} too (its "
+                    "autograded points and lateness are part of the grade)")
+            if key in marks:
+                raise GradebookError(f"{clean(student, 80)}'s written points of {clean(aid, 80)} are in {source[key]} "
+                                     f"and in {path}: pass each assignment's marks once")
+            marks[key], source[key] = value, path
+    return marks
+
+
 def gradebook(folders, *, late=None, written=(), roster=None):
     """``(assignment ids, {aid: max}, rows)``: per student ``{"student", aid: points, aid + " late days", "total"}``."""
     late = late or LatePolicy()
     found = _assignments(folders)
-    marks = {}
-    for path in written:
-        marks.update(read_written(path))
+    marks = _marks(written, found)
     maxima = {aid: entry["max"] for aid, entry in found.items()}
     for (_student, aid), (_got, top) in marks.items():
-        if aid in maxima:
-            maxima[aid] = found[aid]["max"] + top
-    students = sorted({s for entry in found.values() for s in entry["rows"]} | set(roster or ()))
+        maxima[aid] = found[aid]["max"] + top
+    students = sorted({s for entry in found.values() for s in entry["rows"]} | {s for s, _aid in marks}
+                      | set(roster or ()))
     rows = []
     for student in students:
         row = {"student": student}
