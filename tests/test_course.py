@@ -230,6 +230,19 @@ def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
     assert gradebook.main([str(reports04), "--written", str(bad), "-o", str(tmp_path / "g.csv")]) == 2
 
 
+def test_gradebook_csv_tells_a_missing_submission_from_an_empty_one(course, tmp_path):
+    """cy handed in the untouched exercise, eli nothing: both score 0, the status column tells them apart; the
+    (max) row holds the points possible in every points column, total and max alike."""
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(course["reports"]), "-o", str(out)]) == 0
+    lines = {line[0]: line for line in lines_of(out)}
+    assert lines["student"] == ["student", ID, f"{ID} late days", f"{ID} status", "total", "max"]
+    assert lines["(max)"] == ["(max)", "10.0", "", "", "10.0", "10.0"]
+    assert lines["cy"] == ["cy", "0.0", "0", "submitted", "0.0", "10.0"]
+    assert lines["eli"] == ["eli", "0.0", "0", "missing", "0.0", "10.0"]
+    assert lines["fay"][3] == "missing" and lines["dan"][3] == "missing"  # no home; a link collect refused
+
+
 def test_gradescope_autograder_runs_and_rounds_alike(course, tmp_path):
     zpath = gradescope.build(ID, tmp_path / "autograder.zip", visibility="after_due_date")
     root = tmp_path / "autograder"

@@ -1,6 +1,6 @@
 """The gradebook: ``curvature-lab gradebook REPORTS... --format canvas|moodle|csv -o FILE``.
 
-One row per student, a column per assignment and a total, from the ``summary.csv`` of graded folders
+One row per student and a column per assignment, from the ``summary.csv`` of graded folders
 (:mod:`lab.teaching.batch`; one folder per assignment, or several assignments in one).  Per assignment:
 
 * the autograded score (a student without a submission scores 0; students listed missing in the
@@ -17,15 +17,19 @@ better score.
 
 Formats:
 
-* ``csv``: ``student``, then per assignment its points and ``<id> late days``, then ``total`` and ``max``; the
-  first row, ``(max)`` (no user name has parentheses, so a student called max keeps a row of their own), holds the
-  points possible;
+* ``csv``: ``student``, then per assignment its points, ``<id> late days`` and ``<id> status`` (``submitted``,
+  or ``missing`` where no notebook was graded: none handed in, or ``collect`` refused it), then ``total`` and
+  ``max``; the first row, ``(max)`` (no user name has parentheses, so a student called max keeps a row of their
+  own), holds the points possible of each points column (under ``total`` and ``max`` the sum);
 * ``canvas``: Canvas's gradebook import layout: ``Student, ID, SIS User ID, SIS Login ID, Section``, a
   column per assignment (named by its title: Canvas creates the assignment; rename a header to
   ``Title (123)`` to fill an existing one), a second row ``Points Possible``; students are matched by
-  ``SIS Login ID`` = the hub's user name, or by ``ID`` when ``--roster`` gives Canvas's own export;
+  ``SIS Login ID`` = the hub's user name, or by ``ID`` when ``--roster`` gives Canvas's own export.  No total:
+  Canvas computes its own, and a column it does not know becomes a new assignment (counted twice);
 * ``moodle``: Moodle's grade import (Grades → Import → CSV file): ``Username, ID number, Email address`` and
   a column per assignment; map "Username" to "username" and each column to its grade item when importing.
+  No total: the import cannot fill the course total (Moodle computes it), and a total mapped to a new grade
+  item would count twice.
 """
 
 import argparse
@@ -154,7 +158,8 @@ def _marks(written, found):
 
 
 def gradebook(folders, *, late=None, written=(), roster=None):
-    """``(assignment ids, {aid: max}, rows)``: per student ``{"student", aid: points, aid + " late days", "total"}``."""
+    """``(assignment ids, {aid: max}, rows)``: per student ``{"student", aid: points, aid + " late days",
+    aid + " status", "total"}``."""
     late = late or LatePolicy()
     found = _assignments(folders)
     marks = _marks(written, found)
@@ -174,6 +179,7 @@ def gradebook(folders, *, late=None, written=(), roster=None):
             days = late.days(summary.get("late_seconds"))
             points = round((auto + extra) * late.factor(summary.get("late_seconds")), 2)
             row[aid], row[f"{aid} late days"] = points, days
+            row[f"{aid} status"] = "submitted" if summary.get("notebook") else "missing"  # batch: "" = no notebook
             total += points
         row["total"] = round(total, 2)
         rows.append(row)
@@ -186,11 +192,11 @@ def _write(fmt, ids, maxima, rows, roster):
     w = csv.writer(buf)
     max_total = round(sum(maxima.values()), 2)
     if fmt == "csv":
-        w.writerow(["student"] + [c for aid in ids for c in (aid, f"{aid} late days")] + ["total", "max"])
-        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "")] + [max_total, ""])
+        columns = [c for aid in ids for c in (aid, f"{aid} late days", f"{aid} status")]
+        w.writerow(["student"] + columns + ["total", "max"])
+        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "", "")] + [max_total, max_total])
         for r in rows:
-            w.writerow([csv_cell(r["student"])] + [c for aid in ids for c in (r[aid], r[f"{aid} late days"])]
-                       + [r["total"], max_total])
+            w.writerow([csv_cell(r["student"])] + [r[c] for c in columns] + [r["total"], max_total])
     elif fmt == "canvas":
         w.writerow(["Student", "ID", "SIS User ID", "SIS Login ID", "Section"] + list(ids))
         w.writerow(["Points Possible", "", "", "", ""] + [maxima[aid] for aid in ids])
@@ -211,8 +217,9 @@ def _write(fmt, ids, maxima, rows, roster):
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab gradebook",
-        description=_("One row per student, a column per assignment and a total, from graded report folders (their "
-                    "summary.csv), with written points and a late penalty; for Canvas, Moodle or as plain CSV."))
+        description=_("One row per student and a column per assignment, from graded report folders (their "
+                      "summary.csv), with written points and a late penalty; for Canvas or Moodle (which compute the "
+                      "total themselves) or as plain CSV (with a total and whether each assignment was submitted)."))
     parser.add_argument("reports", nargs="+", help=_("report folders written by curvature-lab grade"))
     parser.add_argument("--format", choices=FORMATS, default="csv", help=_("layout of the file (default: csv)"))
     parser.add_argument("-o", "--output", required=True, help=_("the CSV file to write"))
