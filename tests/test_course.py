@@ -140,6 +140,7 @@ def test_the_written_answers_are_collected_per_question(course):
     assert {r["student"] for r in rows} == {"ada", "bea"} and all(r["points"] == "" for r in rows)
     assert next(r for r in rows if r["student"] == "bea")["answer"].startswith("'=")  # never a formula
     assert float(rows[0]["max_points"]) == 3
+    assert rows[0]["question"] == "bfbc93a2" and rows[0]["title"] == "Question: advantages and disadvantages"
 
 
 def test_a_mixed_english_and_german_folder_is_graded(course):
@@ -539,3 +540,21 @@ def test_gradebook_refuses_written_points_without_their_reports(tmp_path, capsys
     assert gradebook.main([str(reports05), str(reports04), "--written", str(marks), "--written", str(marks),
                            "-o", str(out)]) == 2
     assert f"ada's written points of 04_color_maps are in {marks} and in {marks}" in capsys.readouterr().err
+
+
+def test_written_points_with_a_decimal_comma(tmp_path):
+    head = "student,assignment,question,title,max_points,points,comment,answer\n"
+    assert written.read_written(_marks(tmp_path / "a.csv", head + 'ada,04,bfbc93a2,Question,3,"2,5",,text\n'
+                                       'ada,04,cafe0001,Other,3,0.5,,"a, b"\n')) == {("ada", "04"): (3.0, 6.0)}
+    # a German spreadsheet saves with semicolons (and a byte order mark)
+    semi = _marks(tmp_path / "b.csv", "\ufeff" + head.replace(",", ";") + "ada;04;bfbc93a2;Frage;3;2,5;;Text\n")
+    assert written.read_written(semi) == {("ada", "04"): (2.5, 3.0)}
+    bad = _marks(tmp_path / "c.csv", head + "ada,04,bfbc93a2,Question,3,zwei,,text\n")
+    with pytest.raises(ValueError, match="^" + re.escape(f"{bad}, line 2: points and max_points must be numbers; "
+                                                         "got 'zwei', '3'") + "$"):
+        written.read_written(bad)
+    unquoted = _marks(tmp_path / "d.csv", head + "ada,04,bfbc93a2,Question,3,2,5,,text\n")  # would read 2 points
+    with pytest.raises(ValueError, match="^" + re.escape(f"{unquoted}, line 2: more cells than the header has "
+                                                         'columns; write 2.5, or "2,5" in quotes, in a '
+                                                         "comma-separated file") + "$"):
+        written.read_written(unquoted)
