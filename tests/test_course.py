@@ -5,6 +5,7 @@ gradebook (Canvas, Moodle, CSV, late penalty), the Gradescope autograder.
 One folder run is graded once for the module (``graded``); the other tests read its reports."""
 
 import csv
+import dataclasses
 import datetime
 import json
 import os
@@ -242,6 +243,24 @@ def test_gradebook_csv_tells_a_missing_submission_from_an_empty_one(course, tmp_
     assert lines["cy"] == ["cy", "0.0", "0", "submitted", "0.0", "10.0"]
     assert lines["eli"] == ["eli", "0.0", "0", "missing", "0.0", "10.0"]
     assert lines["fay"][3] == "missing" and lines["dan"][3] == "missing"  # no home; a link collect refused
+
+
+def test_feedback_tells_a_late_student_the_lateness_and_the_penalty(course, tmp_path):
+    """bea handed in 2.5 days late: her (German) page says so, and with the gradebook's penalty what it takes."""
+    homes = tmp_path / "home"
+    for student in ("ada", "bea"):
+        (homes / student).mkdir(parents=True)
+    assert feedback.main([str(course["reports"]), str(homes)]) == 0
+    bea = (homes / "bea" / "feedback" / f"{ID}.html").read_text()
+    assert "<p class='late'>Abgegeben 2 Tg. 12 Std. 0 Min. nach Ablauf der Frist.</p>" in bea
+    assert feedback.main([str(course["reports"]), str(homes), "--late-penalty", "10", "--late-cap", "25"]) == 0
+    bea = (homes / "bea" / "feedback" / f"{ID}.html").read_text()
+    assert ("<p class='late'>Abgegeben 2 Tg. 12 Std. 0 Min. nach Ablauf der Frist. Verspätungsabzug: 25 Prozent der "
+            "Punkte (angefangene Tage Verspätung: 3); von den Punkten oben (10) zählen 7,5.</p>") in bea
+    assert "class='late'" not in (homes / "ada" / "feedback" / f"{ID}.html").read_text()  # on time
+    late = feedback.render(dataclasses.replace(course["results"]["bea"], lang="en"), 3600 * 5 + 1,
+                           gradebook.LatePolicy(10, grace=360))
+    assert "<p class='late'>Handed in 0 d 5 h 1 min after the deadline. No late penalty.</p>" in late  # grace
 
 
 def test_gradescope_autograder_runs_and_rounds_alike(course, tmp_path):

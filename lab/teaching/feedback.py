@@ -13,6 +13,9 @@ only when it is exactly such a page: one the student edited or wrote (or a page 
 kept, and the new page goes next to it with a number (``<assignment>.2.html``).  A stamp a student forges makes
 the command replace that file only, never another.
 
+A late student's page says how late the notebook was handed in (``late_seconds`` in the report folder's
+``summary.csv``) and, given the gradebook's ``--late-penalty`` (``--late-cap``, ``--grace``), the penalty.
+
 One student's assignment in two report folders (``feedback reports/*`` with ``reports/05late``) is an error
 naming both, before any page is written; of a student's two notebooks in one folder the better is returned,
 the one the gradebook counts.
@@ -21,6 +24,7 @@ the one the gradebook counts.
 import argparse
 import hashlib
 import json
+import math
 import os
 import secrets
 import sys
@@ -28,7 +32,7 @@ from pathlib import Path
 
 from .. import i18n
 from ..i18n import N_, _
-from .gradebook import one_per_student
+from .gradebook import add_late_options, late_policy, one_per_student, summary_rows
 from .grading import GradeResult
 from .pages import STATUS_COLOURS, e, page
 from .untrusted import UntrustedError, clean, read_file
@@ -66,12 +70,33 @@ def _case_rows(task):
     return rows
 
 
-def render(result):
-    """The feedback page of a :class:`~lab.teaching.grading.GradeResult`, in its language."""
+def _lateness(late_seconds, policy, score):
+    """What a page says about a late hand-in ("" for one on time); the penalty only with a ``policy``."""
+    seconds = float(late_seconds or 0)
+    if seconds <= 0:
+        return ""
+    days, minutes = divmod(math.ceil(seconds / 60), 1440)
+    text = _("Handed in {late} after the deadline.").format(
+        late=_("{d} d {h} h {m} min").format(d=days, h=minutes // 60, m=minutes % 60))
+    if policy is not None and policy.penalty(seconds):
+        text += " " + _("Late penalty: {percent} percent of the points (started days late: {days}); of the points "
+                        "above ({score}), {kept} count.").format(
+            percent=f"{policy.penalty(seconds):g}", days=policy.days(seconds), score=f"{score:g}",
+            kept=f"{policy.apply(score, seconds):g}")
+    elif policy is not None:
+        text += " " + _("No late penalty.")
+    return i18n.decimal(text)
+
+
+def render(result, late_seconds=None, policy=None):
+    """The feedback page of a :class:`~lab.teaching.grading.GradeResult`, in its language; ``late_seconds`` after
+    the deadline and the :class:`~lab.teaching.gradebook.LatePolicy` (or None: no penalty stated)."""
     with i18n.using(result.lang):
         title = _("Feedback: {assignment}").format(assignment=result.assignment or result.notebook)
         score = _("{score} of {max} points").format(score=f"{result.score:g}", max=f"{result.max_score:g}")
         body = [GENERATOR, f"<h1>{e(title)}</h1>", f"<p class='score'>{e(score)}</p>"]
+        if late := _lateness(late_seconds, policy, result.score):
+            body.append(f"<p class='late'>{e(late)}</p>")
         if result.error:
             body.append(f"<p class='error'>{e(clean(result.error))}</p>")
         head = (_("case"), _("status"))
@@ -167,33 +192,41 @@ def _foreign(name, folder_fd):
 
 
 def _reports(folders):
-    """``(folder, result)`` of every report in ``folders``."""
+    """``(folder, result, late seconds)`` of every report in ``folders``; the lateness from the folder's summary."""
     for folder in folders:
+        late = {}
+        if (Path(folder) / "summary.csv").is_file():
+            late = {student: row.get("late_seconds") for student, row in summary_rows(folder)}
         for path in sorted(Path(folder).glob("*.json")):
             if path.name == "run.json" or path.name.endswith(".results.json"):
                 continue
             data = json.loads(path.read_text())
             if isinstance(data, dict) and "tasks" in data and data.get("student"):
-                yield folder, GradeResult.from_dict(data)
+                result = GradeResult.from_dict(data)
+                yield folder, result, late.get(result.student)
 
 
-def feedback(reports, homes, *, log=sys.stderr):
-    """Put every report of the folders ``reports`` into its student's home under ``homes``; returns the paths."""
+def feedback(reports, homes, *, late=None, log=sys.stderr):
+    """Put every report of the folders ``reports`` into its student's home under ``homes``; returns the paths.
+
+    ``late``: the gradebook's :class:`~lab.teaching.gradebook.LatePolicy`, for the penalty on a late student's page.
+    """
     homes = Path(homes)
     if not homes.is_dir():
         raise FeedbackError(f"{homes} is not a folder of homes")
     folders = reports if isinstance(reports, (list, tuple)) else [reports]
-    chosen = one_per_student(((folder, res.student, res.assignment, res.score, res)
-                              for folder, res in _reports(folders)), FeedbackError)
+    chosen = one_per_student(((folder, res.student, res.assignment, res.score, (res, seconds))
+                              for folder, res, seconds in _reports(folders)), FeedbackError)
     written = []
-    for result in chosen.values():
+    for result, late_seconds in chosen.values():
         home = homes / result.student
         if not home.is_dir() or home.is_symlink():
             print("curvature-lab feedback: " + _("no home for {student}: skipped").format(student=clean(result.student, 80)),
                   file=log)
             continue
         try:
-            written.append(write_into_home(home, _safe_name(result.assignment or "feedback"), render(result)))
+            written.append(write_into_home(home, _safe_name(result.assignment or "feedback"),
+                                           render(result, late_seconds, late)))
         except FeedbackError as exc:
             print(f"curvature-lab feedback: {exc}", file=log)
     if not chosen:
@@ -207,12 +240,15 @@ def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab feedback",
         description=_("Put each student's graded report, as a page in the student's language with every case and hint, "
-                    "into the student's home: HOMES/<student>/feedback/<assignment>.html. Nothing else is touched."))
+                      "into the student's home: HOMES/<student>/feedback/<assignment>.html. Nothing else is touched, "
+                      "and a page the student changed is kept. A late student's page says how late and, with the "
+                      "gradebook's --late-penalty, the penalty."))
     parser.add_argument("reports", nargs="+", metavar="REPORTS", help=_("report folders written by curvature-lab grade"))
     parser.add_argument("homes", metavar="HOMES", help=_("folder of the students' homes, one per user name (e.g. /home)"))
+    add_late_options(parser, penalty=None)
     args = parser.parse_args(argv)
     try:
-        feedback(args.reports, args.homes)
+        feedback(args.reports, args.homes, late=late_policy(args))
     except (FeedbackError, OSError, ValueError) as exc:
         print(f"curvature-lab feedback: error: {exc}", file=sys.stderr)
         return 2

@@ -45,8 +45,8 @@ from .grading import write_atomic
 from .untrusted import clean, csv_cell
 from .written import read_written
 
-__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "gradebook", "main", "one_per_student", "read_roster",
-           "summary_rows"]
+__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "add_late_options", "gradebook", "late_policy", "main",
+           "one_per_student", "read_roster", "summary_rows"]
 
 FORMATS = ("csv", "canvas", "moodle")
 #: The first row of the ``csv`` layout, the points possible: not a user name (a student may be called max).
@@ -70,8 +70,28 @@ class LatePolicy:
         late = max(0.0, float(late_seconds or 0) - 60 * self.grace)
         return math.ceil(late / 86400) if late > 0 else 0
 
-    def factor(self, late_seconds):
-        return 1 - min(self.cap, self.percent * self.days(late_seconds)) / 100
+    def penalty(self, late_seconds):
+        """The penalty in percent of the points."""
+        return min(self.cap, self.percent * self.days(late_seconds))
+
+    def apply(self, points, late_seconds):
+        """``points`` less the penalty, rounded to hundredths as the gradebook shows them."""
+        return round(points * (1 - self.penalty(late_seconds) / 100), 2)
+
+
+def add_late_options(parser, penalty=0.0):
+    """The options of a :class:`LatePolicy` (``--late-penalty``, ``--late-cap``, ``--grace``); read them back with
+    :func:`late_policy`.  ``penalty=None``: no penalty given (feedback then does not state one)."""
+    parser.add_argument("--late-penalty", type=float, default=penalty,
+                        help=_("percent of the points per started day late"))
+    parser.add_argument("--late-cap", type=float, default=100.0,
+                        help=_("largest late penalty in percent (default 100)"))
+    parser.add_argument("--grace", type=float, default=0.0, help=_("minutes after the deadline without penalty"))
+
+
+def late_policy(args):
+    """The :class:`LatePolicy` of options added by :func:`add_late_options`, or None without ``--late-penalty``."""
+    return None if args.late_penalty is None else LatePolicy(args.late_penalty, args.late_cap, args.grace)
 
 
 def summary_rows(folder):
@@ -176,9 +196,8 @@ def gradebook(folders, *, late=None, written=(), roster=None):
             summary = entry["rows"].get(student, {})
             auto = float(summary.get("score") or 0)
             extra = marks.get((student, aid), (0.0, 0.0))[0]
-            days = late.days(summary.get("late_seconds"))
-            points = round((auto + extra) * late.factor(summary.get("late_seconds")), 2)
-            row[aid], row[f"{aid} late days"] = points, days
+            points = late.apply(auto + extra, summary.get("late_seconds"))
+            row[aid], row[f"{aid} late days"] = points, late.days(summary.get("late_seconds"))
             row[f"{aid} status"] = "submitted" if summary.get("notebook") else "missing"  # batch: "" = no notebook
             total += points
         row["total"] = round(total, 2)
@@ -224,15 +243,12 @@ def main(argv=None):
     parser.add_argument("--format", choices=FORMATS, default="csv", help=_("layout of the file (default: csv)"))
     parser.add_argument("-o", "--output", required=True, help=_("the CSV file to write"))
     parser.add_argument("--written", action="append", default=[], help=_("a marked written-<id>.csv (repeatable)"))
-    parser.add_argument("--late-penalty", type=float, default=0.0, help=_("percent of the points per started day late"))
-    parser.add_argument("--late-cap", type=float, default=100.0, help=_("largest late penalty in percent (default 100)"))
-    parser.add_argument("--grace", type=float, default=0.0, help=_("minutes after the deadline without penalty"))
+    add_late_options(parser)
     parser.add_argument("--roster", help=_("Canvas's gradebook export or a CSV with 'username' (names, ids, sections)"))
     args = parser.parse_args(argv)
     try:
         roster = read_roster(args.roster) if args.roster else None
-        ids, maxima, rows = gradebook(args.reports, late=LatePolicy(args.late_penalty, args.late_cap, args.grace),
-                                      written=args.written, roster=roster)
+        ids, maxima, rows = gradebook(args.reports, late=late_policy(args), written=args.written, roster=roster)
         write_atomic(args.output, _write(args.format, ids, maxima, rows, roster))
     except (GradebookError, ValueError, OSError) as exc:
         print(f"curvature-lab gradebook: error: {exc}", file=sys.stderr)
