@@ -5,6 +5,7 @@ gradebook (Canvas, Moodle, CSV, late penalty), the Gradescope autograder.
 One folder run is graded once for the module (``graded``); the other tests read its reports."""
 
 import csv
+import dataclasses
 import datetime
 import json
 import os
@@ -140,6 +141,7 @@ def test_the_written_answers_are_collected_per_question(course):
     assert {r["student"] for r in rows} == {"ada", "bea"} and all(r["points"] == "" for r in rows)
     assert next(r for r in rows if r["student"] == "bea")["answer"].startswith("'=")  # never a formula
     assert float(rows[0]["max_points"]) == 3
+    assert rows[0]["question"] == "bfbc93a2" and rows[0]["title"] == "Question: advantages and disadvantages"
 
 
 def test_a_mixed_english_and_german_folder_is_graded(course):
@@ -228,6 +230,37 @@ def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("student,assignment,question,max_points,points\nada,04_color_maps,x,3,5\n")
     assert gradebook.main([str(reports04), "--written", str(bad), "-o", str(tmp_path / "g.csv")]) == 2
+
+
+def test_gradebook_csv_tells_a_missing_submission_from_an_empty_one(course, tmp_path):
+    """cy handed in the untouched exercise, eli nothing: both score 0, the status column tells them apart; the
+    (max) row holds the points possible in every points column, total and max alike."""
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(course["reports"]), "-o", str(out)]) == 0
+    lines = {line[0]: line for line in lines_of(out)}
+    assert lines["student"] == ["student", ID, f"{ID} late days", f"{ID} status", "total", "max"]
+    assert lines["(max)"] == ["(max)", "10.0", "", "", "10.0", "10.0"]
+    assert lines["cy"] == ["cy", "0.0", "0", "submitted", "0.0", "10.0"]
+    assert lines["eli"] == ["eli", "0.0", "0", "missing", "0.0", "10.0"]
+    assert lines["fay"][3] == "missing" and lines["dan"][3] == "missing"  # no home; a link collect refused
+
+
+def test_feedback_tells_a_late_student_the_lateness_and_the_penalty(course, tmp_path):
+    """bea handed in 2.5 days late: her (German) page says so, and with the gradebook's penalty what it takes."""
+    homes = tmp_path / "home"
+    for student in ("ada", "bea"):
+        (homes / student).mkdir(parents=True)
+    assert feedback.main([str(course["reports"]), str(homes)]) == 0
+    bea = (homes / "bea" / "feedback" / f"{ID}.html").read_text()
+    assert "<p class='late'>Abgegeben 2 Tg. 12 Std. 0 Min. nach Ablauf der Frist.</p>" in bea
+    assert feedback.main([str(course["reports"]), str(homes), "--late-penalty", "10", "--late-cap", "25"]) == 0
+    bea = (homes / "bea" / "feedback" / f"{ID}.html").read_text()
+    assert ("<p class='late'>Abgegeben 2 Tg. 12 Std. 0 Min. nach Ablauf der Frist. Verspätungsabzug: 25 Prozent der "
+            "Punkte (angefangene Tage Verspätung: 3); von den Punkten oben (10) zählen 7,5.</p>") in bea
+    assert "class='late'" not in (homes / "ada" / "feedback" / f"{ID}.html").read_text()  # on time
+    late = feedback.render(dataclasses.replace(course["results"]["bea"], lang="en"), 3600 * 5 + 1,
+                           gradebook.LatePolicy(10, grace=360))
+    assert "<p class='late'>Handed in 0 d 5 h 1 min after the deadline. No late penalty.</p>" in late  # grace
 
 
 def test_gradescope_autograder_runs_and_rounds_alike(course, tmp_path):
@@ -443,3 +476,104 @@ def test_every_task_module_is_withheld_whole():
     """A task module added later (e.g. tasks_smoothness.py) holds cases and answers too: withheld without a list."""
     task_modules = {p.name for p in (ROOT / "lab" / "teaching").glob("tasks*.py")}
     assert "tasks_smoothness.py" in task_modules and task_modules <= set(release.WHOLE_MODULES)
+
+
+# -- feedback and gradebook on made-up reports (no grading needed) -------------------------------------------------
+
+def _report_folder(folder, *students, assignment=ID, score=0.75, late_seconds=None):
+    """A folder as ``curvature-lab grade`` leaves it: a report per student (``score`` of 10 points) and summary.csv."""
+    from lab.teaching.grading import GradeResult
+
+    folder.mkdir(parents=True)
+    with open(folder / "summary.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=batch.SUMMARY_COLUMNS)
+        w.writeheader()
+        for student in students:
+            res = GradeResult(notebook=f"{student}/{assignment}.ipynb", assignment=assignment, student=student, tasks=[
+                {"task": "visualize_curvature", "object": "MyBezierPatches", "points": 10, "score": score,
+                 "passed": False, "report": "", "message": "K is wrong at the corners", "cases": []}])
+            (folder / f"{student}__{assignment}.json").write_text(json.dumps(res.to_dict()))
+            w.writerow({"student": student, "notebook": res.notebook, "score": res.score, "max_score": res.max_score,
+                        "assignment": assignment, "late_seconds": "" if late_seconds is None else late_seconds})
+    return folder
+
+
+def test_feedback_keeps_a_page_the_student_edited(tmp_path):
+    """Only a page whose bytes are exactly what feedback wrote is replaced: a page the student added notes to stays,
+    and the new page is numbered (and replaced on the next run, being the command's own)."""
+    reports = _report_folder(tmp_path / "reports", "ada")
+    (tmp_path / "home" / "ada").mkdir(parents=True)
+    pages = tmp_path / "home" / "ada" / "feedback"
+    feedback.feedback([reports], tmp_path / "home")
+    first = (pages / f"{ID}.html").read_bytes()
+    assert "7.5 of 10 points" in first.decode()
+    feedback.feedback([reports], tmp_path / "home")  # unchanged: replaced in place, nothing numbered
+    assert (pages / f"{ID}.html").read_bytes() == first and sorted(p.name for p in pages.iterdir()) == [f"{ID}.html"]
+    with open(pages / f"{ID}.html", "a") as fh:
+        fh.write("<p>MY NOTES</p>\n")
+    feedback.feedback([reports], tmp_path / "home")
+    assert (pages / f"{ID}.html").read_bytes() == first + b"<p>MY NOTES</p>\n"  # the student's edit is kept
+    assert (pages / f"{ID}.2.html").read_bytes() == first
+    (pages / f"{ID}.2.html").write_bytes(first.replace(b"7.5 of 10", b"10 of 10"))  # edited inside, stamp kept
+    feedback.feedback([reports], tmp_path / "home")
+    assert b"10 of 10" in (pages / f"{ID}.2.html").read_bytes() and (pages / f"{ID}.3.html").read_bytes() == first
+    assert not list(pages.glob(".*"))  # no temporary file left behind
+
+
+def test_feedback_and_gradebook_refuse_one_assignment_in_two_folders(tmp_path, capsys):
+    late = _report_folder(tmp_path / "reports" / "05late", "ada", score=1.0, late_seconds=3600)
+    on_time = _report_folder(tmp_path / "reports" / "05", "ada", "bob")
+    (tmp_path / "home" / "ada").mkdir(parents=True)
+    message = f"ada has assignment {ID} in two report folders, {late} and {on_time}: pass only the one that counts"
+    with pytest.raises(feedback.FeedbackError) as caught:
+        feedback.feedback([late, on_time], tmp_path / "home")
+    assert str(caught.value) == message
+    assert not (tmp_path / "home" / "ada" / "feedback").exists()  # refused before any page is written
+    assert gradebook.main([str(late), str(on_time), "-o", str(tmp_path / "g.csv")]) == 2
+    assert capsys.readouterr().err == f"curvature-lab gradebook: error: {message}\n"
+    assert not (tmp_path / "g.csv").exists()
+    assert gradebook.main([str(on_time), str(on_time), "-o", str(tmp_path / "g.csv")]) == 0  # the same folder twice
+
+
+def _marks(path, text):
+    path.write_text(text)
+    return path
+
+
+def test_gradebook_refuses_written_points_without_their_reports(tmp_path, capsys):
+    reports05 = _report_folder(tmp_path / "reports" / "05", "ada")
+    reports04 = _report_folder(tmp_path / "reports" / "04", "ada", assignment="04_color_maps", score=0.0)
+    marks = _marks(tmp_path / "marked.csv", "student,assignment,question,max_points,points\n"
+                                            "ada,04_color_maps,bfbc93a2,3,2.5\n")
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(reports05), "--written", str(marks), "-o", str(out)]) == 2
+    assert capsys.readouterr().err == (
+        f"curvature-lab gradebook: error: {marks}: written points of assignment 04_color_maps, whose reports are not "
+        f"among the report folders ({ID}): pass the folder graded for 04_color_maps too (its autograded points and "
+        "lateness are part of the grade)\n")
+    assert not out.exists()
+    assert gradebook.main([str(reports05), str(reports04), "--written", str(marks), "-o", str(out)]) == 0
+    table = {r["student"]: r for r in rows_of(out)}
+    assert table["ada"]["04_color_maps"] == "2.5" and table["(max)"]["04_color_maps"] == "13.0"
+    assert table["ada"]["total"] == "10.0"  # 7.5 + 2.5
+    assert gradebook.main([str(reports05), str(reports04), "--written", str(marks), "--written", str(marks),
+                           "-o", str(out)]) == 2
+    assert f"ada's written points of 04_color_maps are in {marks} and in {marks}" in capsys.readouterr().err
+
+
+def test_written_points_with_a_decimal_comma(tmp_path):
+    head = "student,assignment,question,title,max_points,points,comment,answer\n"
+    assert written.read_written(_marks(tmp_path / "a.csv", head + 'ada,04,bfbc93a2,Question,3,"2,5",,text\n'
+                                       'ada,04,cafe0001,Other,3,0.5,,"a, b"\n')) == {("ada", "04"): (3.0, 6.0)}
+    # a German spreadsheet saves with semicolons (and a byte order mark)
+    semi = _marks(tmp_path / "b.csv", "\ufeff" + head.replace(",", ";") + "ada;04;bfbc93a2;Frage;3;2,5;;Text\n")
+    assert written.read_written(semi) == {("ada", "04"): (2.5, 3.0)}
+    bad = _marks(tmp_path / "c.csv", head + "ada,04,bfbc93a2,Question,3,zwei,,text\n")
+    with pytest.raises(ValueError, match="^" + re.escape(f"{bad}, line 2: points and max_points must be numbers; "
+                                                         "got 'zwei', '3'") + "$"):
+        written.read_written(bad)
+    unquoted = _marks(tmp_path / "d.csv", head + "ada,04,bfbc93a2,Question,3,2,5,,text\n")  # would read 2 points
+    with pytest.raises(ValueError, match="^" + re.escape(f"{unquoted}, line 2: more cells than the header has "
+                                                         'columns; write 2.5, or "2,5" in quotes, in a '
+                                                         "comma-separated file") + "$"):
+        written.read_written(unquoted)

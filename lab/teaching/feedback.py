@@ -7,31 +7,48 @@ came out and the hint, then the notes.  JupyterLab opens it from the file browse
 
 Nothing else in a home is touched.  The page is written as the home's owner would have it (owner and group
 of the home), through descriptors opened without following links, so a ``feedback`` folder or file that a
-student replaced by a symbolic link is refused, never followed (the instructor may run this as root).  A
-``feedback/<assignment>.html`` that this command did not write is kept: the page goes next to it, with a
-number (``<assignment>.2.html``).
+student replaced by a symbolic link is refused, never followed (the instructor may run this as root).  Every
+page ends with a stamp, the SHA-256 of all its bytes before it, and a ``feedback/<assignment>.html`` is replaced
+only when it is exactly such a page: one the student edited or wrote (or a page written before the stamp) is
+kept, and the new page goes next to it with a number (``<assignment>.2.html``).  A stamp a student forges makes
+the command replace that file only, never another.
+
+A late student's page says how late the notebook was handed in (``late_seconds`` in the report folder's
+``summary.csv``) and, given the gradebook's ``--late-penalty`` (``--late-cap``, ``--grace``), the penalty.
+
+One student's assignment in two report folders (``feedback reports/*`` with ``reports/05late``) is an error
+naming both, before any page is written; of a student's two notebooks in one folder the better is returned,
+the one the gradebook counts.
 """
 
 import argparse
+import hashlib
 import json
+import math
 import os
+import secrets
 import sys
 from pathlib import Path
 
 from .. import i18n
 from ..i18n import N_, _
+from .gradebook import add_late_options, late_policy, one_per_student, summary_rows
 from .grading import GradeResult
 from .pages import STATUS_COLOURS, e, page
-from .untrusted import clean
+from .untrusted import UntrustedError, clean, read_file
 
-__all__ = ["GENERATOR", "FeedbackError", "feedback", "main", "render", "write_into_home"]
+__all__ = ["GENERATOR", "STAMP", "FeedbackError", "feedback", "main", "render", "stamped", "write_into_home"]
 
 #: The statuses of a case, as a page shows them.
 STATUS_WORDS = {"passed": N_("passed"), "failed": N_("failed"), "error": N_("error"),
                 "not implemented": N_("not implemented"), "timeout": N_("timeout"), "delegated": N_("delegated"),
                 "not run": N_("not run")}
-#: Marks a page written by this command (a page without it is never replaced).
+#: Names this command in its pages.
 GENERATOR = "<meta name='generator' content='curvature-lab feedback'>"
+#: The last line of every page: the SHA-256 of all its bytes before it (see the module docstring).
+STAMP = "<!-- curvature-lab feedback sha256:{} -->\n"
+#: Largest file read back to check its stamp (bytes); a larger one is not a page of this command.
+MAX_PAGE = 64 << 20
 
 
 class FeedbackError(ValueError):
@@ -53,12 +70,33 @@ def _case_rows(task):
     return rows
 
 
-def render(result):
-    """The feedback page of a :class:`~lab.teaching.grading.GradeResult`, in its language."""
+def _lateness(late_seconds, policy, score):
+    """What a page says about a late hand-in ("" for one on time); the penalty only with a ``policy``."""
+    seconds = float(late_seconds or 0)
+    if seconds <= 0:
+        return ""
+    days, minutes = divmod(math.ceil(seconds / 60), 1440)
+    text = _("Handed in {late} after the deadline.").format(
+        late=_("{d} d {h} h {m} min").format(d=days, h=minutes // 60, m=minutes % 60))
+    if policy is not None and policy.penalty(seconds):
+        text += " " + _("Late penalty: {percent} percent of the points (started days late: {days}); of the points "
+                        "above ({score}), {kept} count.").format(
+            percent=f"{policy.penalty(seconds):g}", days=policy.days(seconds), score=f"{score:g}",
+            kept=f"{policy.apply(score, seconds):g}")
+    elif policy is not None:
+        text += " " + _("No late penalty.")
+    return i18n.decimal(text)
+
+
+def render(result, late_seconds=None, policy=None):
+    """The feedback page of a :class:`~lab.teaching.grading.GradeResult`, in its language; ``late_seconds`` after
+    the deadline and the :class:`~lab.teaching.gradebook.LatePolicy` (or None: no penalty stated)."""
     with i18n.using(result.lang):
         title = _("Feedback: {assignment}").format(assignment=result.assignment or result.notebook)
         score = _("{score} of {max} points").format(score=f"{result.score:g}", max=f"{result.max_score:g}")
         body = [GENERATOR, f"<h1>{e(title)}</h1>", f"<p class='score'>{e(score)}</p>"]
+        if late := _lateness(late_seconds, policy, result.score):
+            body.append(f"<p class='late'>{e(late)}</p>")
         if result.error:
             body.append(f"<p class='error'>{e(clean(result.error))}</p>")
         head = (_("case"), _("status"))
@@ -87,8 +125,21 @@ def _safe_name(text):
     return "".join(c if c.isalnum() or c in "._-" else "_" for c in str(text))[:120] or "feedback"
 
 
+def stamped(text):
+    """The bytes of the page ``text`` with its stamp (:data:`STAMP`)."""
+    data = text.encode()
+    return data + STAMP.format(hashlib.sha256(data).hexdigest()).encode()
+
+
+def _ours(data):
+    """Whether ``data`` is exactly a page of this command: it ends with the stamp of all its bytes before it."""
+    n = len(STAMP.format("0" * 64))
+    return len(data) > n and data[-n:] == STAMP.format(hashlib.sha256(data[:-n]).hexdigest()).encode()
+
+
 def write_into_home(home, name, text):
-    """Write ``text`` to ``home/feedback/<name>.html`` (see the module docstring); returns the path written."""
+    """Write the page ``text`` to ``home/feedback/<name>.html`` (see the module docstring); returns the path
+    written."""
     flags = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW
     try:
         home_fd = os.open(home, flags)
@@ -108,19 +159,16 @@ def write_into_home(home, name, text):
         try:
             if created and os.geteuid() == 0:
                 os.fchown(folder_fd, owner.st_uid, owner.st_gid)
-            target = f"{name}.html"
-            for k in range(2, 100):
+            for target in (f"{name}.html", *(f"{name}.{k}.html" for k in range(2, 100))):
                 if not _foreign(target, folder_fd):
                     break
-                target = f"{name}.{k}.html"
-            tmp = f".{target}.tmp"
-            try:
-                os.unlink(tmp, dir_fd=folder_fd)
-            except FileNotFoundError:
-                pass
+            else:
+                raise FeedbackError(f"{home}/feedback: {name}.html … {name}.99.html are all the student's: nothing "
+                                    "written")
+            tmp = f".{target}.{secrets.token_hex(8)}.tmp"  # a new name: no file of the student's is removed
             fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644, dir_fd=folder_fd)
-            with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                fh.write(text)
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(stamped(text))
                 if os.geteuid() == 0:
                     os.fchown(fh.fileno(), owner.st_uid, owner.st_gid)
             os.replace(tmp, target, src_dir_fd=folder_fd, dst_dir_fd=folder_fd)
@@ -132,47 +180,59 @@ def write_into_home(home, name, text):
 
 
 def _foreign(name, folder_fd):
-    """Whether ``name`` exists in the folder and was not written by this command (or is not a plain file)."""
+    """Whether ``name`` exists in the folder and is not exactly a page of this command (or not a plain file)."""
     try:
-        fd = os.open(name, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK, dir_fd=folder_fd)
+        os.stat(name, dir_fd=folder_fd, follow_symlinks=False)
     except FileNotFoundError:
         return False
-    except OSError:
+    try:
+        return not _ours(read_file(name, MAX_PAGE, dir_fd=folder_fd))
+    except UntrustedError:
         return True
-    with os.fdopen(fd, "rb") as fh:
-        return GENERATOR.encode() not in fh.read(4096)
 
 
 def _reports(folders):
+    """``(folder, result, late seconds)`` of every report in ``folders``; the lateness from the folder's summary."""
     for folder in folders:
+        late = {}
+        if (Path(folder) / "summary.csv").is_file():
+            late = {student: row.get("late_seconds") for student, row in summary_rows(folder)}
         for path in sorted(Path(folder).glob("*.json")):
             if path.name == "run.json" or path.name.endswith(".results.json"):
                 continue
             data = json.loads(path.read_text())
             if isinstance(data, dict) and "tasks" in data and data.get("student"):
-                yield GradeResult.from_dict(data)
+                result = GradeResult.from_dict(data)
+                yield folder, result, late.get(result.student)
 
 
-def feedback(reports, homes, *, log=sys.stderr):
-    """Put every report of the folders ``reports`` into its student's home under ``homes``; returns the paths."""
+def feedback(reports, homes, *, late=None, log=sys.stderr):
+    """Put every report of the folders ``reports`` into its student's home under ``homes``; returns the paths.
+
+    ``late``: the gradebook's :class:`~lab.teaching.gradebook.LatePolicy`, for the penalty on a late student's page.
+    """
     homes = Path(homes)
     if not homes.is_dir():
         raise FeedbackError(f"{homes} is not a folder of homes")
-    written, seen = [], 0
-    for result in _reports(reports if isinstance(reports, (list, tuple)) else [reports]):
-        seen += 1
+    folders = reports if isinstance(reports, (list, tuple)) else [reports]
+    chosen = one_per_student(((folder, res.student, res.assignment, res.score, (res, seconds))
+                              for folder, res, seconds in _reports(folders)), FeedbackError)
+    written = []
+    for result, late_seconds in chosen.values():
         home = homes / result.student
         if not home.is_dir() or home.is_symlink():
             print("curvature-lab feedback: " + _("no home for {student}: skipped").format(student=clean(result.student, 80)),
                   file=log)
             continue
         try:
-            written.append(write_into_home(home, _safe_name(result.assignment or "feedback"), render(result)))
+            written.append(write_into_home(home, _safe_name(result.assignment or "feedback"),
+                                           render(result, late_seconds, late)))
         except FeedbackError as exc:
             print(f"curvature-lab feedback: {exc}", file=log)
-    if not seen:
-        raise FeedbackError(f"no reports (<name>.json written by curvature-lab grade) in {', '.join(map(str, reports))}")
-    print(_("feedback for {n} of {total} reports").format(n=len(written), total=seen), file=log)
+    if not chosen:
+        raise FeedbackError(f"no reports (<name>.json written by curvature-lab grade) in "
+                            f"{', '.join(map(str, folders))}")
+    print(_("feedback for {n} of {total} reports").format(n=len(written), total=len(chosen)), file=log)
     return written
 
 
@@ -180,12 +240,15 @@ def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab feedback",
         description=_("Put each student's graded report, as a page in the student's language with every case and hint, "
-                    "into the student's home: HOMES/<student>/feedback/<assignment>.html. Nothing else is touched."))
+                      "into the student's home: HOMES/<student>/feedback/<assignment>.html. Nothing else is touched, "
+                      "and a page the student changed is kept. A late student's page says how late and, with the "
+                      "gradebook's --late-penalty, the penalty."))
     parser.add_argument("reports", nargs="+", metavar="REPORTS", help=_("report folders written by curvature-lab grade"))
     parser.add_argument("homes", metavar="HOMES", help=_("folder of the students' homes, one per user name (e.g. /home)"))
+    add_late_options(parser, penalty=None)
     args = parser.parse_args(argv)
     try:
-        feedback(args.reports, args.homes)
+        feedback(args.reports, args.homes, late=late_policy(args))
     except (FeedbackError, OSError, ValueError) as exc:
         print(f"curvature-lab feedback: error: {exc}", file=sys.stderr)
         return 2

@@ -1,26 +1,35 @@
 """The gradebook: ``curvature-lab gradebook REPORTS... --format canvas|moodle|csv -o FILE``.
 
-One row per student, a column per assignment and a total, from the ``summary.csv`` of graded folders
+One row per student and a column per assignment, from the ``summary.csv`` of graded folders
 (:mod:`lab.teaching.batch`; one folder per assignment, or several assignments in one).  Per assignment:
 
 * the autograded score (a student without a submission scores 0; students listed missing in the
   summary, from ``collect``'s ``collected.csv``, are included),
-* plus the written answers' points from marked ``written-<id>.csv`` files (``--written``),
+* plus the written answers' points from marked ``written-<id>.csv`` files (``--written``; the reports of
+  that assignment must be among the folders, else its grade would come out without them: an error),
 * minus a **late penalty**: ``--late-penalty P`` percent of the points per started day late (after
   ``--grace`` minutes), at most ``--late-cap`` percent; the lateness comes from ``collected.csv`` through
   the summary.
 
+One student's assignment in two report folders (``reports/05late reports/05``) is an error naming both: no
+order of the folders decides a grade.  In one folder a student with two notebooks of an assignment gets the
+better score.
+
 Formats:
 
-* ``csv``: ``student``, then per assignment its points and ``<id> late days``, then ``total`` and ``max``; the
-  first row, ``(max)`` (no user name has parentheses, so a student called max keeps a row of their own), holds the
-  points possible;
+* ``csv``: ``student``, then per assignment its points, ``<id> late days`` and ``<id> status`` (``submitted``,
+  or ``missing`` where no notebook was graded: none handed in, or ``collect`` refused it), then ``total`` and
+  ``max``; the first row, ``(max)`` (no user name has parentheses, so a student called max keeps a row of their
+  own), holds the points possible of each points column (under ``total`` and ``max`` the sum);
 * ``canvas``: Canvas's gradebook import layout: ``Student, ID, SIS User ID, SIS Login ID, Section``, a
   column per assignment (named by its title: Canvas creates the assignment; rename a header to
   ``Title (123)`` to fill an existing one), a second row ``Points Possible``; students are matched by
-  ``SIS Login ID`` = the hub's user name, or by ``ID`` when ``--roster`` gives Canvas's own export;
+  ``SIS Login ID`` = the hub's user name, or by ``ID`` when ``--roster`` gives Canvas's own export.  No total:
+  Canvas computes its own, and a column it does not know becomes a new assignment (counted twice);
 * ``moodle``: Moodle's grade import (Grades → Import → CSV file): ``Username, ID number, Email address`` and
   a column per assignment; map "Username" to "username" and each column to its grade item when importing.
+  No total: the import cannot fill the course total (Moodle computes it), and a total mapped to a new grade
+  item would count twice.
 """
 
 import argparse
@@ -33,10 +42,11 @@ from pathlib import Path
 from ..i18n import _
 from .batch import read_summary
 from .grading import write_atomic
-from .untrusted import csv_cell
+from .untrusted import clean, csv_cell
 from .written import read_written
 
-__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "gradebook", "main", "read_roster"]
+__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "add_late_options", "gradebook", "late_policy", "main",
+           "one_per_student", "read_roster", "summary_rows"]
 
 FORMATS = ("csv", "canvas", "moodle")
 #: The first row of the ``csv`` layout, the points possible: not a user name (a student may be called max).
@@ -60,8 +70,51 @@ class LatePolicy:
         late = max(0.0, float(late_seconds or 0) - 60 * self.grace)
         return math.ceil(late / 86400) if late > 0 else 0
 
-    def factor(self, late_seconds):
-        return 1 - min(self.cap, self.percent * self.days(late_seconds)) / 100
+    def penalty(self, late_seconds):
+        """The penalty in percent of the points."""
+        return min(self.cap, self.percent * self.days(late_seconds))
+
+    def apply(self, points, late_seconds):
+        """``points`` less the penalty, rounded to hundredths as the gradebook shows them."""
+        return round(points * (1 - self.penalty(late_seconds) / 100), 2)
+
+
+def add_late_options(parser, penalty=0.0):
+    """The options of a :class:`LatePolicy` (``--late-penalty``, ``--late-cap``, ``--grace``); read them back with
+    :func:`late_policy`.  ``penalty=None``: no penalty given (feedback then does not state one)."""
+    parser.add_argument("--late-penalty", type=float, default=penalty,
+                        help=_("percent of the points per started day late"))
+    parser.add_argument("--late-cap", type=float, default=100.0,
+                        help=_("largest late penalty in percent (default 100)"))
+    parser.add_argument("--grace", type=float, default=0.0, help=_("minutes after the deadline without penalty"))
+
+
+def late_policy(args):
+    """The :class:`LatePolicy` of options added by :func:`add_late_options`, or None without ``--late-penalty``."""
+    return None if args.late_penalty is None else LatePolicy(args.late_penalty, args.late_cap, args.grace)
+
+
+def summary_rows(folder):
+    """``(student, row)`` of each row of ``folder/summary.csv`` (the user name without the quote that keeps a
+    spreadsheet from reading it as a formula)."""
+    return [(row["student"].lstrip("'"), row) for row in read_summary(Path(folder) / "summary.csv")]
+
+
+def one_per_student(items, error=None):
+    """``{(student, assignment): item}`` of ``(folder, student, assignment, score, item)``: of several items of one
+    folder (a student who handed in two notebooks) the better score counts; one student's assignment in two
+    folders raises ``error`` (default :class:`GradebookError`) naming both, since the order of the folders must
+    not decide a grade."""
+    found = {}
+    for folder, student, aid, score, item in items:
+        old = found.get((student, aid))
+        if old is not None and Path(old[0]).resolve() != Path(folder).resolve():
+            raise (error or GradebookError)(
+                f"{clean(student, 80)} has assignment {clean(aid, 80)} in two report folders, {old[0]} and {folder}: "
+                "pass only the one that counts")
+        if old is None or score > old[1]:
+            found[student, aid] = (folder, score, item)
+    return {key: item for key, (_folder, _score, item) in found.items()}
 
 
 def read_roster(path):
@@ -81,43 +134,60 @@ def read_roster(path):
 
 
 def _assignments(folders):
-    """``{assignment id: {"max": points, "title": str, "rows": {student: row}}}`` from the summaries."""
-    found = {}
+    """``{assignment id: {"max": points, "rows": {student: row}}}`` from the summaries."""
+    found, items = {}, []
     for folder in folders:
         path = Path(folder) / "summary.csv"
         if not path.is_file():
             raise GradebookError(f"{folder}: no summary.csv (is it a folder of reports from curvature-lab grade?)")
-        for row in read_summary(path):
+        for student, row in summary_rows(folder):
             aid = row.get("assignment") or ""
             if not aid:
                 continue
             entry = found.setdefault(aid, {"max": 0.0, "rows": {}})
             try:
-                top = float(row.get("max_score") or 0)
+                top, score = float(row.get("max_score") or 0), float(row.get("score") or 0)
             except ValueError:
-                raise GradebookError(f"{path}: max_score {row.get('max_score')!r} is not a number") from None
+                raise GradebookError(f"{path}: score {row.get('score')!r} or max_score {row.get('max_score')!r} of "
+                                     f"{clean(student, 80)} is not a number") from None
             entry["max"] = max(entry["max"], top)
-            student = row["student"].lstrip("'")
-            old = entry["rows"].get(student)
-            if old is None or float(row.get("score") or 0) > float(old.get("score") or 0):
-                entry["rows"][student] = row  # a student with two notebooks of one assignment: the better counts
+            items.append((folder, student, aid, score, row))
     if not found:
         raise GradebookError("the summaries name no assignment")
+    for (student, aid), row in one_per_student(items).items():
+        found[aid]["rows"][student] = row
     return found
 
 
+def _marks(written, found):
+    """``{(student, assignment): (points, max points)}`` of the marked written CSVs, for assignments in ``found``."""
+    marks, source = {}, {}
+    for path in written:
+        for key, value in read_written(path).items():
+            student, aid = key
+            if aid not in found:
+                raise GradebookError(
+                    f"{path}: written points of assignment {clean(aid, 80)}, whose reports are not among the report "
+                    f"folders ({', '.join(sorted(found))}): pass the folder graded for {clean(aid, 80)} too (its "
+                    "autograded points and lateness are part of the grade)")
+            if key in marks:
+                raise GradebookError(f"{clean(student, 80)}'s written points of {clean(aid, 80)} are in {source[key]} "
+                                     f"and in {path}: pass each assignment's marks once")
+            marks[key], source[key] = value, path
+    return marks
+
+
 def gradebook(folders, *, late=None, written=(), roster=None):
-    """``(assignment ids, {aid: max}, rows)``: per student ``{"student", aid: points, aid + " late days", "total"}``."""
+    """``(assignment ids, {aid: max}, rows)``: per student ``{"student", aid: points, aid + " late days",
+    aid + " status", "total"}``."""
     late = late or LatePolicy()
     found = _assignments(folders)
-    marks = {}
-    for path in written:
-        marks.update(read_written(path))
+    marks = _marks(written, found)
     maxima = {aid: entry["max"] for aid, entry in found.items()}
     for (_student, aid), (_got, top) in marks.items():
-        if aid in maxima:
-            maxima[aid] = found[aid]["max"] + top
-    students = sorted({s for entry in found.values() for s in entry["rows"]} | set(roster or ()))
+        maxima[aid] = found[aid]["max"] + top
+    students = sorted({s for entry in found.values() for s in entry["rows"]} | {s for s, _aid in marks}
+                      | set(roster or ()))
     rows = []
     for student in students:
         row = {"student": student}
@@ -126,9 +196,9 @@ def gradebook(folders, *, late=None, written=(), roster=None):
             summary = entry["rows"].get(student, {})
             auto = float(summary.get("score") or 0)
             extra = marks.get((student, aid), (0.0, 0.0))[0]
-            days = late.days(summary.get("late_seconds"))
-            points = round((auto + extra) * late.factor(summary.get("late_seconds")), 2)
-            row[aid], row[f"{aid} late days"] = points, days
+            points = late.apply(auto + extra, summary.get("late_seconds"))
+            row[aid], row[f"{aid} late days"] = points, late.days(summary.get("late_seconds"))
+            row[f"{aid} status"] = "submitted" if summary.get("notebook") else "missing"  # batch: "" = no notebook
             total += points
         row["total"] = round(total, 2)
         rows.append(row)
@@ -141,11 +211,11 @@ def _write(fmt, ids, maxima, rows, roster):
     w = csv.writer(buf)
     max_total = round(sum(maxima.values()), 2)
     if fmt == "csv":
-        w.writerow(["student"] + [c for aid in ids for c in (aid, f"{aid} late days")] + ["total", "max"])
-        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "")] + [max_total, ""])
+        columns = [c for aid in ids for c in (aid, f"{aid} late days", f"{aid} status")]
+        w.writerow(["student"] + columns + ["total", "max"])
+        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "", "")] + [max_total, max_total])
         for r in rows:
-            w.writerow([csv_cell(r["student"])] + [c for aid in ids for c in (r[aid], r[f"{aid} late days"])]
-                       + [r["total"], max_total])
+            w.writerow([csv_cell(r["student"])] + [r[c] for c in columns] + [r["total"], max_total])
     elif fmt == "canvas":
         w.writerow(["Student", "ID", "SIS User ID", "SIS Login ID", "Section"] + list(ids))
         w.writerow(["Points Possible", "", "", "", ""] + [maxima[aid] for aid in ids])
@@ -166,21 +236,19 @@ def _write(fmt, ids, maxima, rows, roster):
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="curvature-lab gradebook",
-        description=_("One row per student, a column per assignment and a total, from graded report folders (their "
-                    "summary.csv), with written points and a late penalty; for Canvas, Moodle or as plain CSV."))
+        description=_("One row per student and a column per assignment, from graded report folders (their "
+                      "summary.csv), with written points and a late penalty; for Canvas or Moodle (which compute the "
+                      "total themselves) or as plain CSV (with a total and whether each assignment was submitted)."))
     parser.add_argument("reports", nargs="+", help=_("report folders written by curvature-lab grade"))
     parser.add_argument("--format", choices=FORMATS, default="csv", help=_("layout of the file (default: csv)"))
     parser.add_argument("-o", "--output", required=True, help=_("the CSV file to write"))
     parser.add_argument("--written", action="append", default=[], help=_("a marked written-<id>.csv (repeatable)"))
-    parser.add_argument("--late-penalty", type=float, default=0.0, help=_("percent of the points per started day late"))
-    parser.add_argument("--late-cap", type=float, default=100.0, help=_("largest late penalty in percent (default 100)"))
-    parser.add_argument("--grace", type=float, default=0.0, help=_("minutes after the deadline without penalty"))
+    add_late_options(parser)
     parser.add_argument("--roster", help=_("Canvas's gradebook export or a CSV with 'username' (names, ids, sections)"))
     args = parser.parse_args(argv)
     try:
         roster = read_roster(args.roster) if args.roster else None
-        ids, maxima, rows = gradebook(args.reports, late=LatePolicy(args.late_penalty, args.late_cap, args.grace),
-                                      written=args.written, roster=roster)
+        ids, maxima, rows = gradebook(args.reports, late=late_policy(args), written=args.written, roster=roster)
         write_atomic(args.output, _write(args.format, ids, maxima, rows, roster))
     except (GradebookError, ValueError, OSError) as exc:
         print(f"curvature-lab gradebook: error: {exc}", file=sys.stderr)

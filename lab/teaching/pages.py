@@ -15,7 +15,7 @@ STYLE = ("body{font-family:system-ui,sans-serif;max-width:62em;margin:2em auto;p
          ".a{border-left:4px solid #0969da;padding:.2em .8em;margin:.8em 0}.none{color:#777}"
          "table{border-collapse:collapse;margin:.6em 0}td,th{border:1px solid #ccc;padding:.25em .6em;"
          "text-align:left;vertical-align:top}.passed{color:#1a7f37}.failed,.error,.timeout,.delegated{color:#cf222e}"
-         ".not-implemented,.not-run{color:#9a6700}.score{font-size:1.3em;font-weight:bold}")
+         ".not-implemented,.not-run,.late{color:#9a6700}.score{font-size:1.3em;font-weight:bold}")
 
 #: CSS class per case status (the statuses of lab.teaching.report).
 STATUS_COLOURS = {"passed": "passed", "failed": "failed", "error": "error", "timeout": "timeout",

@@ -9,8 +9,10 @@ after it are added to the answer).
 
 :func:`collect_answers` writes, for one assignment, ``written-<id>.html`` (every question with every
 student's answer below it, escaped, so one question is marked for the whole class at once) and
-``written-<id>.csv`` (a row per student and question: ``points`` and ``comment`` empty, for the
-instructor; ``max_points`` from the metadata).  ``curvature-lab gradebook --written FILE`` adds the points.
+``written-<id>.csv`` (a row per student and question: ``question`` its cell id, ``title`` its first line,
+``points`` and ``comment`` empty, for the instructor; ``max_points`` from the metadata).  ``curvature-lab
+gradebook --written FILE`` adds the points; a spreadsheet's decimal comma (``2,5``) and semicolon-separated
+file are read too.
 """
 
 import csv
@@ -18,14 +20,14 @@ import io
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..i18n import _, language, using
+from ..i18n import _, language, parse_number, using
 from .notebooks import ANSWER_PLACEHOLDER
 from .pages import e, page
 from .untrusted import clean, csv_cell
 
 __all__ = ["WRITTEN_COLUMNS", "Question", "answers_of", "collect_answers", "questions_of", "read_written"]
 
-WRITTEN_COLUMNS = ("student", "assignment", "question", "max_points", "points", "comment", "answer")
+WRITTEN_COLUMNS = ("student", "assignment", "question", "title", "max_points", "points", "comment", "answer")
 _PLACEHOLDERS = {p.strip() for p in ANSWER_PLACEHOLDER.values()}
 #: Longest answer kept (characters).
 MAX_ANSWER = 20_000
@@ -36,6 +38,12 @@ class Question:
     cell: str
     text: str
     points: float
+
+    @property
+    def title(self):
+        """The question's first line (a heading without its ``#``), cut at a word after 60 characters."""
+        line = next((t.strip().lstrip("#").strip() for t in self.text.splitlines() if t.strip()), "")
+        return line if len(line) <= 60 else line[:60].rsplit(" ", 1)[0] + " …"
 
 
 def questions_of(nb):
@@ -77,8 +85,8 @@ def answers_of(nb, questions, known=()):
 def _rows(assignment_id, questions, answers_by_student):
     for student, answers in sorted(answers_by_student.items()):
         for q in questions:
-            yield {"student": student, "assignment": assignment_id, "question": q.cell, "max_points": q.points,
-                   "points": "", "comment": "", "answer": answers.get(q.cell, "")}
+            yield {"student": student, "assignment": assignment_id, "question": q.cell, "title": q.title,
+                   "max_points": q.points, "points": "", "comment": "", "answer": answers.get(q.cell, "")}
 
 
 def collect_answers(out_dir, assignment_id, exercise_nb, answers_by_student, lang="en"):
@@ -121,21 +129,32 @@ def _page(assignment_id, questions, answers_by_student):
 def read_written(path):
     """``{(student, assignment): (points, max points)}`` summed over the questions of a marked ``written-*.csv``.
 
-    A row whose ``points`` is empty counts 0 (unmarked); points outside ``0 … max_points`` are refused.
+    A row whose ``points`` is empty counts 0 (unmarked); points outside ``0 … max_points`` are refused.  Read as a
+    spreadsheet saves it too: a decimal comma (``2,5``), cells separated by semicolons, a byte order mark.
     """
+    with open(path, newline="", encoding="utf-8-sig") as fh:
+        text = fh.read()
+    head = text.split("\n", 1)[0]
+    reader = csv.DictReader(io.StringIO(text), delimiter=";" if ";" in head and "," not in head else ",")
+    if missing := {"student", "assignment", "max_points", "points"} - set(reader.fieldnames or ()):
+        raise ValueError(f"{path}: no column {', '.join(sorted(missing))} (is it a written-<id>.csv of curvature-lab "
+                         "collect?)")
     totals = {}
-    with open(path, newline="") as fh:
-        for n, row in enumerate(csv.DictReader(fh), 2):
-            try:
-                top = float(row.get("max_points") or 0)
-                got = float(row["points"]) if (row.get("points") or "").strip() else 0.0
-            except (KeyError, ValueError):
-                raise ValueError(f"{path}, line {n}: points and max_points must be numbers; got "
-                                 f"{row.get('points')!r}, {row.get('max_points')!r}") from None
-            if not 0 <= got <= top:
-                raise ValueError(f"{path}, line {n}: {got:g} points for question {row.get('question')} of "
-                                 f"{row.get('student')}; expected 0 … {top:g}")
-            key = (row["student"], row["assignment"])
-            p, m = totals.get(key, (0.0, 0.0))
-            totals[key] = (p + got, m + top)
+    for row in reader:
+        n = reader.line_num
+        if None in row:  # more cells than columns: an unquoted 2,5 in a comma-separated file
+            raise ValueError(f"{path}, line {n}: more cells than the header has columns; write 2.5, or \"2,5\" in "
+                             "quotes, in a comma-separated file")
+        try:
+            top = parse_number(row["max_points"] or 0)
+            got = parse_number(row["points"]) if (row["points"] or "").strip() else 0.0
+        except ValueError:
+            raise ValueError(f"{path}, line {n}: points and max_points must be numbers; got "
+                             f"{row['points']!r}, {row['max_points']!r}") from None
+        if not 0 <= got <= top:
+            raise ValueError(f"{path}, line {n}: {got:g} points for question {row.get('question')} of "
+                             f"{row['student']}; expected 0 … {top:g}")
+        key = (row["student"], row["assignment"])
+        p, m = totals.get(key, (0.0, 0.0))
+        totals[key] = (p + got, m + top)
     return totals
