@@ -189,6 +189,8 @@ def test_feedback_in_each_home_in_the_students_language(course):
     assert "10 von 10 Punkten" in bea and "Rückmeldung" in bea
     cy = (homes / "cy" / "feedback" / f"{ID}.2.html").read_text()
     assert "0 of 10 points" in cy and "not implemented" in cy
+    # an empty task: what to write, once, above the cases; no "got:" that would show it as the code's answer
+    assert "got:" not in cy and cy.count("compute the chosen curvature") == 1, cy
     assert (homes / "cy" / "feedback" / f"{ID}.html").read_text() == "my own notes"
     assert not (Path("/etc") / f"{ID}.html").exists()
     for student in ("ada", "bea"):  # their work is untouched
@@ -577,3 +579,12 @@ def test_written_points_with_a_decimal_comma(tmp_path):
                                                          'columns; write 2.5, or "2,5" in quotes, in a '
                                                          "comma-separated file") + "$"):
         written.read_written(unquoted)
+
+
+def test_a_german_feedback_page_writes_decimal_commas():
+    from lab.teaching.grading import GradeResult
+
+    task = {"task": "visualize_curvature", "object": "MyBezierPatches", "points": 10, "score": 4 / 18,
+            "passed": False, "report": "", "message": "", "cases": []}
+    page = feedback.render(GradeResult("bea/05.ipynb", assignment=ID, lang="de", tasks=[task]))
+    assert "2,22 von 10 Punkten" in page and "(MyBezierPatches): 2,22 / 10</h2>" in page, page

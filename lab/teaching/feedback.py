@@ -61,7 +61,7 @@ def _case_rows(task):
     for c in task.get("cases", []):
         status = c.get("status", "")
         detail = ""
-        if status != "passed":
+        if status not in ("passed", "not implemented"):  # an empty task: the section's text says what to write
             texts = (c.get("expected", ""), c.get("got", ""), c.get("hint", ""))
             detail = "<br>".join(f"<b>{e(label)}</b> {e(clean(text))}" for label, text in zip(labels, texts) if text)
         word = _(STATUS_WORDS[status]) if status in STATUS_WORDS else ""
@@ -93,7 +93,7 @@ def render(result, late_seconds=None, policy=None):
     the deadline and the :class:`~lab.teaching.gradebook.LatePolicy` (or None: no penalty stated)."""
     with i18n.using(result.lang):
         title = _("Feedback: {assignment}").format(assignment=result.assignment or result.notebook)
-        score = _("{score} of {max} points").format(score=f"{result.score:g}", max=f"{result.max_score:g}")
+        score = i18n.decimal(_("{score} of {max} points").format(score=f"{result.score:g}", max=f"{result.max_score:g}"))
         body = [GENERATOR, f"<h1>{e(title)}</h1>", f"<p class='score'>{e(score)}</p>"]
         if late := _lateness(late_seconds, policy, result.score):
             body.append(f"<p class='late'>{e(late)}</p>")
@@ -101,8 +101,8 @@ def render(result, late_seconds=None, policy=None):
             body.append(f"<p class='error'>{e(clean(result.error))}</p>")
         head = (_("case"), _("status"))
         for t in result.tasks:
-            got = round(t["points"] * t["score"], 2)
-            body.append(f"<section><h2>{e(t['task'])} ({e(clean(t['object'], 100))}): {got:g} / {t['points']:g}</h2>"
+            points = i18n.decimal(f"{round(t['points'] * t['score'], 2):g} / {t['points']:g}")
+            body.append(f"<section><h2>{e(t['task'])} ({e(clean(t['object'], 100))}): {points}</h2>"
                         f"<pre>{e(clean(t.get('message', '')))}</pre>")
             rows = _case_rows(t)
             if rows:

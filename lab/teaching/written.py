@@ -20,7 +20,7 @@ import io
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..i18n import _, language, parse_number, using
+from ..i18n import _, decimal, language, parse_number, using
 from .notebooks import ANSWER_PLACEHOLDER
 from .pages import e, page
 from .untrusted import clean, csv_cell
@@ -115,7 +115,7 @@ def _page(assignment_id, questions, answers_by_student):
     parts = [f"<h1>{e(title)}</h1>"]
     for k, q in enumerate(questions, 1):
         head = _("Question {k}").format(k=k)
-        points = _("{points} points").format(points=f"{q.points:g}")
+        points = _("{points} points").format(points=decimal(f"{q.points:g}"))
         parts.append(f"<section><h2>{e(head)} <small>({e(q.cell)}, {e(points)})</small></h2>"
                      f"<div class='q'>{e(q.text)}</div>")
         for student, answers in sorted(answers_by_student.items()):
