@@ -191,6 +191,7 @@ def test_feedback_in_each_home_in_the_students_language(course):
     assert "0 of 10 points" in cy and "not implemented" in cy
     # an empty task: what to write, once, above the cases; no "got:" that would show it as the code's answer
     assert "got:" not in cy and cy.count("compute the chosen curvature") == 1, cy
+    assert "<th></th>" not in cy and "<th>status</th></tr>" in cy  # no empty third column: no case has a detail
     assert (homes / "cy" / "feedback" / f"{ID}.html").read_text() == "my own notes"
     assert not (Path("/etc") / f"{ID}.html").exists()
     for student in ("ada", "bea"):  # their work is untouched

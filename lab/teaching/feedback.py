@@ -55,9 +55,10 @@ class FeedbackError(ValueError):
     """Feedback that cannot be returned (no reports, a home that is not a folder)."""
 
 
-def _case_rows(task):
+def _case_table(task):
+    """The table of a task's cases: name, status and, where a case failed with something to show, the detail."""
     labels = (_("expected:"), _("got:"), _("hint:"))
-    rows = []
+    cells = []
     for c in task.get("cases", []):
         status = c.get("status", "")
         detail = ""
@@ -65,9 +66,14 @@ def _case_rows(task):
             texts = (c.get("expected", ""), c.get("got", ""), c.get("hint", ""))
             detail = "<br>".join(f"<b>{e(label)}</b> {e(clean(text))}" for label, text in zip(labels, texts) if text)
         word = _(STATUS_WORDS[status]) if status in STATUS_WORDS else ""
-        rows.append(f"<tr><td>{e(clean(c.get('name', ''), 300))}</td><td class='{STATUS_COLOURS.get(status, '')}'>"
-                    f"{e(word)}</td><td>{detail}</td></tr>")
-    return rows
+        row = f"<td>{e(clean(c.get('name', ''), 300))}</td><td class='{STATUS_COLOURS.get(status, '')}'>{e(word)}</td>"
+        cells.append((row, detail))
+    if not cells:
+        return ""
+    details = any(detail for _row, detail in cells)  # no empty column when no case has a detail
+    head = f"<tr><th>{e(_('case'))}</th><th>{e(_('status'))}</th>" + ("<th></th>" if details else "") + "</tr>"
+    return "<table>" + head + "".join(f"<tr>{row}" + (f"<td>{detail}</td>" if details else "") + "</tr>"
+                                      for row, detail in cells) + "</table>"
 
 
 def _lateness(late_seconds, policy, score):
@@ -99,15 +105,11 @@ def render(result, late_seconds=None, policy=None):
             body.append(f"<p class='late'>{e(late)}</p>")
         if result.error:
             body.append(f"<p class='error'>{e(clean(result.error))}</p>")
-        head = (_("case"), _("status"))
         for t in result.tasks:
             points = i18n.decimal(f"{round(t['points'] * t['score'], 2):g} / {t['points']:g}")
             body.append(f"<section><h2>{e(t['task'])} ({e(clean(t['object'], 100))}): {points}</h2>"
                         f"<pre>{e(clean(t.get('message', '')))}</pre>")
-            rows = _case_rows(t)
-            if rows:
-                body.append(f"<table><tr><th>{e(head[0])}</th><th>{e(head[1])}</th><th></th></tr>" + "".join(rows)
-                            + "</table>")
+            body.append(_case_table(t))
             body.append("</section>")
         notes = [clean(n) for n in result.notes] + [
             _("cell {index}: {error}").format(index=x["cell"], error=clean(x["error"]))
