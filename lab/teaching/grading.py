@@ -234,12 +234,18 @@ def _defining_cell(nb, name):
     return found[-1] if found else None
 
 
+def _failed_definition(nb, name, cell_errors):
+    """``(index, error)`` of the cell that defines ``name`` when that cell failed (not a withheld call), else None."""
+    index = _defining_cell(nb, name)
+    error = next((e for e in cell_errors if e.get("cell") == index), None) if index is not None else None
+    return None if error is None or error.get("kind") in WITHHELD else (index, error)
+
+
 def _undefined_message(nb, obj, cell_errors):
     """Why ``obj`` was never defined, when the cell that defines it failed (a SyntaxError, a dead kernel …)."""
-    index = _defining_cell(nb, obj)
-    error = next((e for e in cell_errors if e["cell"] == index), None) if index is not None else None
-    if error is None or error["kind"] in WITHHELD:
+    if (failed := _failed_definition(nb, obj, cell_errors)) is None:
         return None
+    index, error = failed
     if error["kind"] == "syntax":
         return _("{name} was never defined: cell {cell}, which defines it, has a syntax error ({error}); fix it "
                  "and run the cell").format(name=obj, cell=index, error=error["error"])
@@ -258,13 +264,10 @@ def _explain_name_errors(nb, cell_errors):
     instead of a bare "name 'mine' is not defined" that reads as the student's typo."""
     for e in cell_errors:
         found = _NAME_ERROR.search(e.get("error", "")) if e.get("kind") == "error" else None
-        index = _defining_cell(nb, found.group(1)) if found else None
-        if index is None or not isinstance(e.get("cell"), int) or index >= e["cell"]:
-            continue
-        cause = next((c for c in cell_errors if c.get("cell") == index and c.get("kind") not in WITHHELD), None)
-        if cause is not None:
+        failed = _failed_definition(nb, found.group(1), cell_errors) if found else None
+        if failed is not None and isinstance(e.get("cell"), int) and failed[0] < e["cell"]:
             e["error"] = _("{error} (cell {cell}, which defines {name}, did not finish: {why})").format(
-                error=e["error"], cell=index, name=found.group(1), why=clean(cause["error"], 200))
+                error=e["error"], cell=failed[0], name=found.group(1), why=clean(failed[1]["error"], 200))
 
 
 def _grade_in_sandbox(raw, prepared, result, *, timeout, check_timeout, total_timeout, memory, disk, use_sandbox):
