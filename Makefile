@@ -6,9 +6,9 @@ PIP_CONSTRAINTS := -c deploy/constraints.txt
 include jupyter/setup.mk
 
 TEST_STAMP := $(VENV)/.installed-test
-# Chromium for the browser tests, bubblewrap for the grader's sandbox, geomview and Xvfb for the test that Debian's
-# geomview shows the practical's CBEZ333 export (tests/test_geomview.py).
-TEST_APT_PACKAGES := chromium bubblewrap geomview xvfb
+# Chromium for the browser tests, bubblewrap and libseccomp for the grader's sandbox (its syscall filter), geomview
+# and Xvfb for the test that Debian's geomview shows the practical's CBEZ333 export (tests/test_geomview.py).
+TEST_APT_PACKAGES := chromium bubblewrap libseccomp2 geomview xvfb
 
 .PHONY: test benchmarks exercises translations docs
 

@@ -26,7 +26,9 @@ ROOT = Path(__file__).resolve().parent.parent
 ID = "05_visualize_curvature"
 SOLUTION = {lang: ROOT / "solutions" / lang / f"{ID}.ipynb" for lang in ("en", "de")}
 EXERCISE = {lang: ROOT / "exercises" / lang / f"{ID}.ipynb" for lang in ("en", "de")}
-DEADLINE = datetime.datetime(2026, 12, 15, 23, 59, tzinfo=datetime.timezone.utc)
+# in the past: a hand-in time is never after the kernel's status-change time of the file (the time the test wrote
+# it), so a late hand-in needs a deadline before that; on-time ones are seen by a collect "at the deadline" (course)
+DEADLINE = datetime.datetime(2025, 12, 15, 23, 59, tzinfo=datetime.timezone.utc)
 
 pytestmark = pytest.mark.xdist_group("course")  # one graded folder for the module
 
@@ -57,15 +59,17 @@ def _snapshot(root):
 def course(tmp_path_factory):
     """Homes of six students: ada (English, right, on time), bea (German, right, 2.5 days late, the notebook
     renamed), cy (English, not done), dan (a link to ada's notebook), eli (no notebook), gus (English, b_u and b_v
-    without their degree factors); then collect and grade."""
+    without their degree factors); then collect and grade.  Collected twice, as an instructor would: 3 hours before
+    the deadline (the collector's clock set back: the first sight of each notebook's bytes is the on-time record)
+    and again after bea's hand-in, 2.5 days late."""
     root = tmp_path_factory.mktemp("course")
     homes = root / "home"
     on_time, late = DEADLINE - datetime.timedelta(hours=3), DEADLINE + datetime.timedelta(days=2, hours=12)
     _save(SOLUTION["en"], homes / "ada" / "curvature-lab" / "exercises" / "en" / f"{ID}.ipynb", on_time)
     nb = nbformat.read(SOLUTION["de"], as_version=4)
     answer = next(c for c in nb.cells if c.cell_type == "markdown")
-    _save(SOLUTION["de"], homes / "bea" / "work" / "meine_abgabe.ipynb", late)  # found by its metadata id
     _save(EXERCISE["en"], homes / "cy" / f"{ID}.ipynb", on_time)
+    (homes / "bea" / "work").mkdir(parents=True)  # her notebook comes after the deadline
     (homes / "dan").mkdir()
     (homes / "dan" / f"{ID}.ipynb").symlink_to(homes / "ada" / "curvature-lab" / "exercises" / "en" / f"{ID}.ipynb")
     (homes / "eli" / "notes").mkdir(parents=True)
@@ -85,10 +89,15 @@ def course(tmp_path_factory):
         nbformat.write(mine, path)
         os.utime(path, (on_time.timestamp(),) * 2)
     del nb, answer
-    before = _snapshot(homes)
-    subs = root / "subs"
-    rows = collect.collect(homes, ID, DEADLINE.isoformat(), subs, roster=["ada", "bea", "cy", "dan", "eli", "fay", "gus"])
-    rows04 = collect.collect(homes, "04_color_maps", DEADLINE.isoformat(), root / "subs04")
+    subs, roster = root / "subs", ["ada", "bea", "cy", "dan", "eli", "fay", "gus"]
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(collect, "_clock", lambda: on_time)
+        collect.collect(homes, ID, DEADLINE.isoformat(), subs, roster=roster)
+        rows04 = collect.collect(homes, "04_color_maps", DEADLINE.isoformat(), root / "subs04")
+        _save(SOLUTION["de"], homes / "bea" / "work" / "meine_abgabe.ipynb", late)  # found by its metadata id
+        before = _snapshot(homes)
+        mp.setattr(collect, "_clock", lambda: late)
+        rows = collect.collect(homes, ID, DEADLINE.isoformat(), subs, roster=roster)
     reports = root / "reports"
     results = batch.grade_folder(subs, reports, jobs=2, seed=777, timeout=120)
     return {"root": root, "homes": homes, "subs": subs, "reports": reports, "rows": rows, "rows04": rows04,
@@ -112,6 +121,10 @@ def test_collect_finds_each_notebook_and_records_lateness(course):
     assert rows["ada"]["status"] == "collected" and rows["ada"]["late"] is False
     assert rows["bea"]["status"] == "collected" and rows["bea"]["file"] == "work/meine_abgabe.ipynb"
     assert rows["bea"]["late"] is True and rows["bea"]["late_seconds"] == 2.5 * 86400
+    late = DEADLINE + datetime.timedelta(days=2.5)  # bea's hand-in: first seen then, her file's time says the same
+    assert rows["bea"]["submitted"] == rows["bea"]["first_seen"] == rows["bea"]["modified"] == late.isoformat()
+    on_time = (DEADLINE - datetime.timedelta(hours=3)).isoformat()  # ada's: first seen by the collect at the deadline
+    assert rows["ada"]["submitted"] == rows["ada"]["first_seen"] == on_time < rows["ada"]["changed"]
     assert rows["dan"]["status"] == "refused" and "symbolic link" in rows["dan"]["note"]
     assert rows["eli"]["status"] == "missing" and rows["fay"]["note"] == "no home"
     copy = course["subs"] / "bea" / f"{ID}.ipynb"
@@ -241,10 +254,10 @@ def test_gradebook_csv_tells_a_missing_submission_from_an_empty_one(course, tmp_
     out = tmp_path / "grades.csv"
     assert gradebook.main([str(course["reports"]), "-o", str(out)]) == 0
     lines = {line[0]: line for line in lines_of(out)}
-    assert lines["student"] == ["student", ID, f"{ID} late days", f"{ID} status", "total", "max"]
-    assert lines["(max)"] == ["(max)", "10.0", "", "", "10.0", "10.0"]
-    assert lines["cy"] == ["cy", "0.0", "0", "submitted", "0.0", "10.0"]
-    assert lines["eli"] == ["eli", "0.0", "0", "missing", "0.0", "10.0"]
+    assert lines["student"] == ["student", ID, f"{ID} late days", f"{ID} status", f"{ID} note", "total", "max"]
+    assert lines["(max)"] == ["(max)", "10.0", "", "", "", "10.0", "10.0"]
+    assert lines["cy"] == ["cy", "0.0", "0", "submitted", "", "0.0", "10.0"]
+    assert lines["eli"] == ["eli", "0.0", "0", "missing", "", "0.0", "10.0"]
     assert lines["fay"][3] == "missing" and lines["dan"][3] == "missing"  # no home; a link collect refused
 
 
@@ -523,19 +536,28 @@ def test_feedback_keeps_a_page_the_student_edited(tmp_path):
     assert not list(pages.glob(".*"))  # no temporary file left behind
 
 
-def test_feedback_and_gradebook_refuse_one_assignment_in_two_folders(tmp_path, capsys):
+def test_feedback_and_gradebook_make_one_assignment_in_two_folders_that_students_zero(tmp_path, capsys):
+    """ada's assignment in two report folders: no order of the folders decides her grade, and she alone pays for it
+    (0 points and a note in the gradebook, no page and a line on stderr from feedback); bob is graded and gets his
+    page. (Before issue 28 both commands refused for the whole class.)"""
     late = _report_folder(tmp_path / "reports" / "05late", "ada", score=1.0, late_seconds=3600)
     on_time = _report_folder(tmp_path / "reports" / "05", "ada", "bob")
-    (tmp_path / "home" / "ada").mkdir(parents=True)
-    message = f"ada has assignment {ID} in two report folders, {late} and {on_time}: pass only the one that counts"
-    with pytest.raises(feedback.FeedbackError) as caught:
-        feedback.feedback([late, on_time], tmp_path / "home")
-    assert str(caught.value) == message
-    assert not (tmp_path / "home" / "ada" / "feedback").exists()  # refused before any page is written
-    assert gradebook.main([str(late), str(on_time), "-o", str(tmp_path / "g.csv")]) == 2
-    assert capsys.readouterr().err == f"curvature-lab gradebook: error: {message}\n"
-    assert not (tmp_path / "g.csv").exists()
+    for student in ("ada", "bob"):
+        (tmp_path / "home" / student).mkdir(parents=True)
+    assert feedback.main([str(late), str(on_time), str(tmp_path / "home")]) == 0
+    assert capsys.readouterr().err == (
+        f"curvature-lab feedback: ada has assignment {ID} in two report folders, {late} and {on_time}: no page "
+        "written; pass only the folder that counts\nfeedback for 1 of 2 reports\n")
+    assert not (tmp_path / "home" / "ada" / "feedback").exists()
+    assert "7.5 of 10 points" in (tmp_path / "home" / "bob" / "feedback" / f"{ID}.html").read_text()
+    note = f"{ID} is in two report folders, {late} and {on_time}: 0 points here; pass only the folder that counts"
+    assert gradebook.main([str(late), str(on_time), "-o", str(tmp_path / "g.csv")]) == 0
+    assert f"curvature-lab gradebook: ada: {note}\n" in capsys.readouterr().err
+    table = {r["student"]: r for r in rows_of(tmp_path / "g.csv")}
+    assert table["ada"][ID] == "0.0" and table["ada"][f"{ID} status"] == "refused" and table["ada"][f"{ID} note"] == note
+    assert table["bob"][ID] == "7.5" and table["bob"][f"{ID} note"] == ""
     assert gradebook.main([str(on_time), str(on_time), "-o", str(tmp_path / "g.csv")]) == 0  # the same folder twice
+    assert {r["student"]: r[ID] for r in rows_of(tmp_path / "g.csv")}["ada"] == "7.5"
 
 
 def _marks(path, text):

@@ -3,6 +3,7 @@
 import csv
 import json
 import shutil
+import signal
 from pathlib import Path
 
 import nbformat
@@ -300,10 +301,26 @@ def test_a_name_error_after_a_failed_defining_cell_says_which_cell_failed():
     errors = [{"cell": 1, "kind": "timeout", "error": "stopped after 15 s (endless loop?)"},
               {"cell": 2, "kind": "error", "error": "NameError: name 'mine' is not defined"},
               {"cell": 3, "kind": "error", "error": "NameError: name 'other' is not defined"}]
-    grading._explain_name_errors(nb, errors)
+    grading._explain_name_errors(grading._defining_cells(nb), errors)
     assert errors[1]["error"] == ("NameError: name 'mine' is not defined (cell 1, which defines mine, did not "
                                   "finish: stopped after 15 s (endless loop?))")
     assert errors[2]["error"] == "NameError: name 'other' is not defined"  # a typo stays a typo
+
+
+def test_the_cells_that_define_names_are_found_in_one_linear_pass():
+    """A cell of a million newlines: a regular expression with ``^\\s*`` over it took about 30 s per 80 000 lines
+    (quadratic: hours for a million, per task); one pass over the lines takes a fraction of a second.  The alarm is
+    1000 times what the pass needs here, and a thousandth of what the old search would."""
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("import lab"),
+                                         nbformat.v4.new_code_cell("class Mine:\n    pass\n" + "\n" * 1_000_000),
+                                         nbformat.v4.new_code_cell("\n" * 1_000_000 + "mine = Mine()\nx == 2")])
+    signal.signal(signal.SIGALRM, lambda *_: pytest.fail("the search of a million-line cell did not end in 60 s"))
+    signal.alarm(60)
+    try:
+        defined = grading._defining_cells(nb)
+    finally:
+        signal.alarm(0)
+    assert defined == {"Mine": 1, "mine": 2}  # x == 2 defines nothing
 
 
 def test_a_german_report_writes_decimal_commas_and_a_missing_student_by_name():

@@ -19,12 +19,14 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from lab.teaching import batch, sandbox
+from lab.teaching import batch, results, sandbox
+from tests.sandbox_support import assert_contained, escape_report
 
 ROOT = Path(__file__).resolve().parent.parent
 HOSTILE = sorted((ROOT / "tests" / "data" / "hostile").glob("*.ipynb"))
 ASSIGNMENT = ROOT / "exercises" / "en" / "05_visualize_curvature.ipynb"
 MARK = "lab-hostile-marker"
+MILLION = 1_000_000
 
 ALTERNATIVE = '''
 import numpy as np
@@ -94,12 +96,17 @@ def marked_processes():
 
 
 @pytest.fixture(scope="module")
-def graded(tmp_path_factory):
+def graded(tmp_path_factory, keyring):
     course = tmp_path_factory.mktemp("course")
     subs = course / "submissions"
     for path in HOSTILE:
         (subs / path.stem).mkdir(parents=True)
         shutil.copy(path, subs / path.stem / "05_visualize_curvature.ipynb")
+    floods = subs / "host_floods" / "05_visualize_curvature.ipynb"  # a cell of a million newlines (2 MB, made here)
+    nb = nbformat.read(floods, as_version=4)
+    cell = next(c for c in nb.cells if c.source.startswith("MILLION = 1"))
+    cell.source = "MILLION = 1\n" + "\n" * MILLION + "MILLION = 2\n"
+    nbformat.write(nb, floods)
     (subs / "ada").mkdir()
     shutil.copy(ROOT / "solutions" / "en" / "05_visualize_curvature.ipynb", subs / "ada" / "05_visualize_curvature.ipynb")
     nb = nbformat.read(ASSIGNMENT, as_version=4)
@@ -250,3 +257,26 @@ def test_the_library_copy_in_the_sandbox_withholds_the_answers(graded):
     for name in ("restore_library_code", "second_copy_importlib"):
         assert results[name].tasks[0]["status"] in ("delegated", "not implemented", "error"), results[name].text()
     assert results["restore_library_code"].tasks[0]["status"] == "delegated"
+
+
+@pytest.mark.skipif(not sandbox.bwrap_works(), reason="bubblewrap cannot run here")
+def test_the_kernel_of_the_grading_machine_is_out_of_reach(graded, keyring):
+    """Graded as root (CI): uid 1000 inside an unprivileged id, /proc/sys read-only, no keyring, no namespaces."""
+    assert_contained(escape_report(graded["results"]["kernel_escape"].to_dict()))
+    assert graded["results"]["kernel_escape"].score == 0
+    for path in graded["out"].iterdir():
+        assert "the-planted-secret" not in path.read_text(errors="replace")
+    assert keyring.find("lab-hostile-left") == -1  # no key left in root's keyring for a classmate to read
+
+
+def test_a_million_line_cell_and_floods_cost_the_grader_nothing(graded):
+    """A cell of a million newlines (the defining-cell search was quadratic: hours), 50 MiB of valid results written
+    after the graded calls, a result line of 2 million numbers and 255 MiB on stderr: graded like any other, 0 points, the
+    over-long result a bad output of its case, and the classmates (test above) keep their marks."""
+    floods = graded["course"] / "submissions" / "host_floods" / "05_visualize_curvature.ipynb"
+    assert floods.read_text().count("\\n") > MILLION
+    result = graded["results"]["host_floods"]
+    assert result.score == 0 and result.max_score == 10 and not result.error, result.text()
+    cases = result.tasks[0]["cases"]
+    assert cases[1]["status"] == "failed" and "far more numbers than the task asks for" in cases[1]["got"], cases[1]
+    assert f"more than {results.MAX_VALUES} are not read" in result.tasks[0]["report"]

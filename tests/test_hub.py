@@ -155,7 +155,7 @@ def _save_as(src, dst, when):
 
 
 @pytest.mark.skipif(shutil.which("git") is None, reason="git is missing")
-def test_a_course_from_handout_to_gradebook(hub, tmp_path):
+def test_a_course_from_handout_to_gradebook(hub, tmp_path, monkeypatch):
     """The hand-out reaches two students through nbgitpuller (one German), with no solution in either home; one
     hands in a correct 05, the other a wrong one after the deadline; collect, grade the mixed folder, feedback (each
     student's JupyterLab shows it), gradebook with totals and the late penalty."""
@@ -172,7 +172,8 @@ def test_a_course_from_handout_to_gradebook(hub, tmp_path):
     students = {"uli": "de", "vic": "en"}
     homes = root / "home"
     nb_path = {u: homes / u / "curvature-lab-student" / "exercises" / lang / NOTEBOOK for u, lang in students.items()}
-    deadline = datetime.datetime(2026, 12, 15, 23, 59, tzinfo=datetime.timezone.utc)
+    # in the past: a hand-in time is never after the status-change time of the file (when the test wrote it)
+    deadline = datetime.datetime(2025, 12, 15, 23, 59, tzinfo=datetime.timezone.utc)
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
         pages = {}
@@ -188,6 +189,10 @@ def test_a_course_from_handout_to_gradebook(hub, tmp_path):
             assert release.solution_lines_in(homes / user) == [], f"a solution line in {user}'s home"
         # uli hands in the German solution on time; vic a wrong one (degree factors left out) two days late
         _save_as(ROOT / "solutions" / "de" / NOTEBOOK, nb_path["uli"], deadline - datetime.timedelta(hours=1))
+        subs, reports = tmp_path / "subs", tmp_path / "reports"
+        # collected at the deadline (the collector's clock set back): its first sight of uli's bytes is on time
+        monkeypatch.setattr(collect, "_clock", lambda: deadline - datetime.timedelta(minutes=1))
+        collect.collect(homes, "05_visualize_curvature", deadline.isoformat(), subs, roster=list(students))
         wrong = nbformat.read(ROOT / "solutions" / "en" / NOTEBOOK, as_version=4)
         cell = next(c for c in wrong.cells if "class MyBezierPatches" in c.source)
         cell.source = (cell.source.replace("bu = m * (", "bu = (").replace("bv = n * (", "bv = (")
@@ -196,7 +201,7 @@ def test_a_course_from_handout_to_gradebook(hub, tmp_path):
         nbformat.write(wrong, nb_path["vic"])
         late = deadline + datetime.timedelta(days=1, hours=2)
         os.utime(nb_path["vic"], (late.timestamp(), late.timestamp()))
-        subs, reports = tmp_path / "subs", tmp_path / "reports"
+        monkeypatch.setattr(collect, "_clock", lambda: late)  # and again when vic has handed in
         rows = {r["student"]: r for r in collect.collect(homes, "05_visualize_curvature", deadline.isoformat(), subs,
                                                          roster=list(students))}
         assert rows["uli"]["late"] is False and rows["vic"]["late"] is True

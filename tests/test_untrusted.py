@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import threading
 
 import pytest
@@ -138,3 +139,132 @@ def test_a_forged_value_makes_the_results_invalid(out):
     (folder / "task-0.jsonl").write_text(json.dumps(line) + "\n")
     with pytest.raises(results.InvalidResults, match="not what the harness writes"):
         results.read_outcomes(fd, "task-0.jsonl", 3)
+
+
+# -- names, spreadsheet cells and invisible characters (issue 28, items 3 and 7) --------------------------------------
+
+INVISIBLE = {"\u2028": "\\u2028", "\u2029": "\\u2029", "\u200e": "\\u200e", "\u200f": "\\u200f", "\u061c": "\\u061c",
+             **{chr(c): f"\\u{c:04x}" for c in range(0x202A, 0x202F)},
+             **{chr(c): f"\\u{c:04x}" for c in range(0x2066, 0x206A)},
+             "\u200b": "\\u200b", "\u200c": "\\u200c", "\u200d": "\\u200d", "\u2060": "\\u2060", "\ufeff": "\\ufeff"}
+
+
+@pytest.mark.parametrize("char, shown", sorted(INVISIBLE.items()))
+def test_clean_shows_separators_bidi_marks_zero_width_characters_and_boms(char, shown):
+    assert untrusted.clean(f"a{char}b") == f"a{shown}b"
+    assert untrusted.clean(f"a{char}b", keep_newlines=False) == f"a{shown}b"
+
+
+def test_clean_keeps_every_legitimate_character():
+    text = ("Grüße aus Köln: Öl, Äpfel, ß, ẞ; ∂κ/∂u ≤ ∞, ∇·n = 2H, 90°, a — b – c, π≈3,14, “quoted” «guillemets» "
+            "曲率 😀 ½ € №\tx")
+    assert untrusted.clean(text) == text.replace("\t", "\\t")
+    assert untrusted.clean("line one\nline two") == "line one\nline two"
+    assert untrusted.clean("line one\nline two", keep_newlines=False) == "line one\\nline two"
+    assert untrusted.clean("\U000e0001tag\udc80") == "\\U000e0001tag\\udc80"  # a tag character, a lone surrogate
+
+
+@pytest.mark.parametrize("value", ["'bea", "''bea", "'", "=1+1", "bea", "-2", "@x", "+", "", "a'b", "' =x"])
+def test_a_cell_reads_back_as_the_text_it_was_written_from(value):
+    """csv_cell quotes, csv_value unquotes exactly once: two names never share a cell ('bea is not bea)."""
+    cell = untrusted.csv_cell(value)
+    assert untrusted.csv_value(cell) == value
+    assert not cell[:1] in ("=", "+", "-", "@")
+
+
+def test_a_leading_quote_is_quoted_too():
+    assert untrusted.csv_cell("'bea") == "''bea" and untrusted.csv_cell("bea") == "bea"
+    assert untrusted.csv_value("''bea") == "'bea" and untrusted.csv_value("'=1") == "=1"
+    assert untrusted.csv_value("bea") == "bea" and untrusted.csv_value(None) == ""
+
+
+@pytest.mark.parametrize("name", ["ada", "bea.m", "o'neil", "'bea", "Jürgen", "ß-2", "a b", "user_1@uni", "x" * 100,
+                                  '=HYPERLINK("http:__example.org","10")', "x...", "a..b"])
+def test_a_user_name_is_an_id(name):
+    assert untrusted.student_id(name) == name
+
+
+@pytest.mark.parametrize("name, message", [
+    ("", "an empty user name"),
+    (".", "'.' is a path, not a user name"),
+    ("..", "'..' is a path, not a user name"),
+    (".bob", "'.bob' begins with a dot"),
+    ("a/b", "'a/b' has a path separator (/)"),
+    ("a\\b", "'a\\b' has a path separator (\\)"),
+    ("a\nb", "'a\\nb' has a line break (U+000A)"),
+    ("a\rb", "'a\\rb' has a line break (U+000D)"),
+    ("a\u2028b", "'a\\u2028b' has a line break (U+2028)"),
+    ("a\u2029b", "'a\\u2029b' has a line break (U+2029)"),
+    ("a\x00b", "'a\\x00b' has a control character (U+0000)"),
+    ("a\x1b[2Jb", "'a\\x1b[2Jb' has a control character (U+001B)"),
+    ("ad\u200ba", "'ad\\u200ba' has an invisible character (U+200B)"),
+    ("ada\u202e", "'ada\\u202e' has an invisible character (U+202E)"),
+    ("\ufeffada", "'\\ufeffada' has an invisible character (U+FEFF)"),
+    ("x" * 101, "has 101 characters; at most 100"),
+    (7, "a user name must be text; got int"),
+])
+def test_a_name_that_is_a_path_or_hides_characters_is_refused(name, message):
+    with pytest.raises(untrusted.UntrustedError, match=re.escape(message)):
+        untrusted.student_id(name)
+
+
+def test_a_file_is_written_inside_its_folder_only(tmp_path):
+    folder = tmp_path / "reports"
+    folder.mkdir()
+    (tmp_path / "outside.json").write_text("theirs")
+    (folder / "link.json").symlink_to(tmp_path / "outside.json")
+    fd = untrusted.open_folder(folder)
+    try:
+        untrusted.write_at(fd, "ada.json", "ours\n")
+        assert (folder / "ada.json").read_text() == "ours\n"
+        untrusted.write_at(fd, "link.json", "replaced")  # the link itself is replaced, its target untouched
+        assert (tmp_path / "outside.json").read_text() == "theirs" and not (folder / "link.json").is_symlink()
+        for bad, message in (("../outside.json", "not a single file name"), ("..", "not a single file name"),
+                             ("a/b.json", "not a single file name"), ("", "not a single file name"),
+                             ("a\x00.json", "not a single file name"), ("x" * 240, "longer than")):
+            with pytest.raises(untrusted.UntrustedError, match=message):
+                untrusted.write_at(fd, bad, "x")
+        assert (tmp_path / "outside.json").read_text() == "theirs"
+        assert sorted(p.name for p in folder.iterdir()) == ["ada.json", "link.json"]  # no temporary file left
+    finally:
+        os.close(fd)
+    (tmp_path / "swapped").symlink_to(folder)
+    with pytest.raises(untrusted.UntrustedError, match="cannot be opened as a folder"):
+        untrusted.open_folder(tmp_path / "swapped")
+
+
+def test_a_notebook_is_validated_once_and_refused_by_its_size_before_that(monkeypatch):
+    """nbformat's validator takes about 0.25 ms a cell and much more on an invalid one, and ``nbformat.reads``
+    validated a second time: a 60 000-cell notebook with one malformed cell took 29 s (90 s under load)."""
+    import nbformat
+
+    calls = []
+    validate = nbformat.validate
+    monkeypatch.setattr(nbformat, "validate", lambda nb, *a, **k: calls.append(1) or validate(nb, *a, **k))
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(["x = 1\n", "y = 2"])])
+    raw = json.dumps(nb).encode()
+    calls.clear()  # building it validated its cells
+    assert untrusted.read_notebook(raw).cells[0].source == "x = 1\ny = 2" and calls == [1]  # as nbformat reads it
+    many = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("x = 1")] * (untrusted.MAX_CELLS + 1))
+    lines = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(["\n"] * (untrusted.MAX_TEXTS + 10))])
+    bad = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("x")])
+    bad.cells[0]["outputs"] = [{"output_type": "bogus"}]
+    calls.clear()
+    with pytest.raises(ValueError, match=f"a notebook of {untrusted.MAX_CELLS + 1} cells; at most 2000 are read"):
+        untrusted.read_notebook(json.dumps(many).encode())
+    with pytest.raises(ValueError, match="a notebook of about 1200.* texts .*; at most 1200000 are read"):
+        untrusted.read_notebook(json.dumps(lines).encode())
+    assert calls == []  # neither was validated
+    with pytest.raises(ValueError, match="NotebookValidationError"):
+        untrusted.read_notebook(json.dumps(bad).encode())
+    assert calls == [1]
+
+
+@pytest.mark.parametrize("source, names", [
+    ("class MyBezierPatches(lab.BezierPatches):\n    def visualize_curvature(self, m, c):\n        k = 1",
+     ["MyBezierPatches", "visualize_curvature", "k"]),
+    ("mine=3\nmine == 4\nmine2 = 1\n# def hidden\ndef\tf(x): pass\nx.y = 2", ["mine", "mine2", "f"]),
+])
+def test_definitions_are_read_line_by_line(source, names):
+    assert list(untrusted.definitions(source)) == names
+    assert untrusted.defines(source, names[0]) and not untrusted.defines(source, "hidden")

@@ -18,9 +18,14 @@ import nbformat
 from ..i18n import LANGUAGES, _
 from .tasks import TASKS
 
-__all__ = ["DEFAULT_FOLDER", "Assignment", "AssignmentError", "for_submission", "load"]
+__all__ = ["DEFAULT_FOLDER", "REAL_PARTS", "Assignment", "AssignmentError", "for_submission", "load", "reads_cad"]
 
 DEFAULT_FOLDER = Path(__file__).resolve().parents[2] / "exercises"
+
+
+#: What an instructor's notebook calls when the assignment reads CAD files (real parts): it then needs OpenCASCADE
+#: (the extra ``cad``) in the grader's sandbox and in the Gradescope image; any other assignment's sandbox lacks it.
+REAL_PARTS = ("lab.read(", "models.", "occ_curvature")
 
 
 class AssignmentError(ValueError):
@@ -134,3 +139,14 @@ def for_submission(nb, path, assignment=None):
         if mine != found.tasks:
             notes.append(_("the notebook's own task list differs from the assignment's; the assignment's is used"))
     return found, notes
+
+
+def reads_cad(assignment):
+    """Whether the instructor's notebook of ``assignment`` (an :class:`Assignment`, or its text) reads CAD files: a
+    code cell calls one of :data:`REAL_PARTS`."""
+    text = assignment if isinstance(assignment, str) else Path(assignment.path).read_text()
+    try:
+        text = "\n".join(c.source for c in nbformat.reads(text, as_version=4).cells if c.cell_type == "code")
+    except Exception:  # noqa: BLE001, S110 - not a notebook: its whole text is searched
+        pass
+    return any(call in text for call in REAL_PARTS)

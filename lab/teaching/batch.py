@@ -10,16 +10,23 @@ sandbox, ``jobs`` at a time, with one seed for the whole run:
   size-checked on the open file before it is parsed.
 * **One failure stops nothing**: a submission that crashes the grader itself becomes that submission's
   error (the traceback, naming the notebook, goes to stderr); the others are graded.
-* **Reports are written as soon as a submission is done**, each atomically (``<name>.json``,
-  ``<name>.txt``, for Gradescope ``<name>.results.json``); names are made unique when two submissions
-  would share one (the collision is noted).  ``run.json`` records the seed and the assignment, so
-  ``--resume`` after a crash or a stop grades only what has no report yet (or whose notebook changed);
-  ``summary.csv`` is written at the end from every report.
+* **Names are data, not paths**: a student (the folder ``SUBS/<student>``, the file ``SUBS/<student>.ipynb``)
+  must be a user name (:func:`~lab.teaching.untrusted.student_id`); ``..`` (a file ``...ipynb``), a leading dot,
+  a line break or an invisible character is refused like a symbolic link, with the name escaped.  Names are
+  kept raw in the results and quoted only in a spreadsheet cell (``'bea`` and ``bea`` stay two students); a
+  file name's newline never makes a line of a report or of the output.
+* **Reports are written as soon as a submission is done**, each atomically into the report folder opened once,
+  by a single file name (``<name>.json``, ``<name>.txt``, for Gradescope ``<name>.results.json``); names are
+  made unique when two submissions would share one, and never take a name of the run's own files (``run``,
+  ``summary``, ``collected``, ``written-*``, ``*.results``: a flat ``run.ipynb`` reports as ``run~2``); either is
+  noted.  A report that cannot be written is noted and stops nothing.  ``run.json`` records the seed and the
+  assignment, so ``--resume`` after a crash or a stop grades only what has no report yet (or whose notebook
+  changed); ``summary.csv`` is written at the end from every report.
 * **No silent fallback**: where bubblewrap cannot run, a folder is graded only with ``--no-sandbox``; the
   protections missing are printed on stderr and listed in ``summary.csv``.
 * ``summary.csv`` has a row per submission and per refused file (columns :data:`SUMMARY_COLUMNS`); every
-  cell is cleaned and can never be a spreadsheet formula.  With ``SUBS/collected.csv`` (from ``collect``)
-  the hand-in time and lateness of each student are copied into it.
+  cell is cleaned and can never be a spreadsheet formula (read it back with :func:`read_summary`).  With
+  ``SUBS/collected.csv`` (from ``collect``) the hand-in time and lateness of each student are copied into it.
 """
 
 import argparse
@@ -52,7 +59,7 @@ from .grading import (
     write_atomic,
 )
 from .sandbox import DISK, LAB_DIR, MEMORY, bwrap_works, probe
-from .untrusted import clean, csv_cell, plain_file
+from .untrusted import UntrustedError, clean, csv_cell, csv_rows, loads, plain_file, read_file, student_id, write_at
 
 __all__ = ["SUMMARY_COLUMNS", "GradingError", "find_submissions", "grade_folder", "main", "read_summary", "report_names",
            "result_line"]
@@ -69,7 +76,9 @@ def find_submissions(folder, skip=None):
     """``(notebooks, refused)`` under ``folder``: plain ``.ipynb`` files, and ``(path, reason)`` of those refused.
 
     Folders are walked without following symbolic links; ``.ipynb_checkpoints`` and ``skip`` (the reports
-    folder) are left out.
+    folder) are left out.  A notebook whose student (its folder ``SUBS/<student>``, or the file
+    ``SUBS/<student>.ipynb``) is no user name (:func:`~lab.teaching.untrusted.student_id`: ``..``, a leading dot,
+    a line break, an invisible character, …) is refused, never graded.
     """
     folder = Path(folder)
     skip = Path(skip).resolve() if skip is not None else None
@@ -80,45 +89,92 @@ def find_submissions(folder, skip=None):
         for d in list(dirs):
             if (here / d).is_symlink():
                 dirs.remove(d)
-                refused.append((here / d, "a symbolic link"))
+                refused.append((here / d, _name_problem(folder, here / d) or "a symbolic link"))
         for name in sorted(files):
             path = here / name
             if not name.endswith(".ipynb"):
                 continue
-            why = plain_file(path, folder)
+            why = _name_problem(folder, path) or plain_file(path, folder)
             (refused.append((path, why)) if why else notebooks.append(path))
     return notebooks, refused
 
 
 def _student(folder, path):
+    """``(student, path relative to folder)``: the first folder below ``folder``, or a flat file's name without
+    ``.ipynb``; raw (check it with :func:`_name_problem`)."""
     rel = Path(path).relative_to(folder)
-    return (rel.parts[0] if len(rel.parts) > 1 else Path(path).stem), rel
+    return (rel.parts[0] if len(rel.parts) > 1 else rel.name.removesuffix(".ipynb")), rel
 
 
-def report_names(folder, paths):
-    """``{path: (report stem, note or "")}``: ``student__notebook``, made unique where two would collide."""
-    names, used = {}, set()
+def _name_problem(folder, path):
+    """Why the student of ``path`` is no user name, or None."""
+    try:
+        student_id(_student(folder, path)[0])
+    except UntrustedError as exc:
+        return str(exc)
+    return None
+
+
+def _shown(text):
+    """A name that is no user name, as reports and summary.csv show it: escaped, one line."""
+    return clean(text, 300, keep_newlines=False)
+
+
+#: Report names a folder run keeps for its own files (``run.json``, ``summary.csv``), and for the files ``collect``
+#: writes into a folder of submissions (``collected.csv``, ``written-<id>.csv``); compared in lower case.
+RESERVED = ("run", "summary", "collected")
+#: Longest report stem (bytes): with ``~N``, ``.results.json`` and a temporary name's 22 bytes far below 255.
+MAX_STEM = 150
+
+
+def _reserved(stem):
+    low = stem.lower()
+    return low in RESERVED or low.startswith(("written-", ".")) or low.endswith(".results")
+
+
+def _stem(text):
+    """A report stem of ``text``: letters, digits and ``._-`` (others ``_``), no leading dot, at most
+    :data:`MAX_STEM` bytes."""
+    stem = "".join(c if c.isalnum() or c in "._-" else "_" for c in text)
+    stem = "_" + stem[1:] if stem.startswith(".") else stem
+    return stem.encode()[:MAX_STEM].decode("utf-8", "ignore") or "submission"
+
+
+def _take(stem, used):
+    """``(stem made unique among used and not reserved, note or "")``; adds it to ``used``."""
+    unique, k = stem, 1
+    while unique.lower() in used or (unique == stem and _reserved(stem)):
+        k += 1
+        unique = f"{stem}~{k}"
+    used.add(unique.lower())
+    if unique == stem:
+        return unique, ""
+    if _reserved(stem):
+        return unique, _("its report name {stem} is reserved for the files of the folder run (run.json, summary.csv): "
+                         "{unique}").format(stem=repr(stem), unique=repr(unique))
+    return unique, _("its report name {stem} was taken by another submission: {unique}").format(
+        stem=repr(stem), unique=repr(unique))
+
+
+def report_names(folder, paths, used=None):
+    """``{path: (report stem, note or "")}``: ``student__notebook`` (a flat file: its name), made unique where two
+    would collide, never a name of the run's own files (:data:`RESERVED`, ``*.results``; these get ``~2``).
+    ``used``: the stems taken so far (lower case; filled in)."""
+    names, used = {}, set() if used is None else used
     for path in paths:
         _student_name, rel = _student(folder, path)
-        stem = "__".join(rel.with_suffix("").parts)
-        stem = "".join(c if c.isalnum() or c in "._-" else "_" for c in stem)[:150] or "submission"
-        unique, k = stem, 1
-        while unique.lower() in used:
-            k += 1
-            unique = f"{stem}~{k}"
-        used.add(unique.lower())
-        note = "" if unique == stem else f"its report name {stem!r} was taken by another submission: {unique!r}"
-        names[path] = (unique, note)
+        names[path] = _take(_stem("__".join(rel.with_suffix("").parts)), used)
     return names
 
 
 def _read_collected(folder):
-    """``{student: row}`` of ``folder/collected.csv`` (written by ``curvature-lab collect``), or {}."""
+    """``{student: row}`` of ``folder/collected.csv`` (written by ``curvature-lab collect``), or {}; every cell
+    read back through :func:`~lab.teaching.untrusted.csv_value`."""
     path = Path(folder) / "collected.csv"
     if not path.is_file() or path.is_symlink():
         return {}
     with open(path, newline="") as fh:
-        return {row.get("student", ""): row for row in csv.DictReader(fh)}
+        return {row.get("student", ""): row for row in csv_rows(fh)}
 
 
 def _summary_row(student, rel, res, collected):
@@ -133,16 +189,44 @@ def _summary_row(student, rel, res, collected):
 
 
 def read_summary(path):
-    """The rows of a ``summary.csv`` as dicts (text; numbers left for the caller)."""
+    """The rows of a ``summary.csv`` as dicts of text (each cell read back through
+    :func:`~lab.teaching.untrusted.csv_value`: a student ``'bea`` is ``'bea``; numbers left for the caller)."""
     with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
+        return csv_rows(fh)
 
 
-def _run_record(out_dir, seed, assignment, resume):
-    """The seed of the run: from ``run.json`` when resuming (it must agree with ``seed`` if given)."""
-    record = out_dir / "run.json"
-    if resume and record.is_file():
-        old = json.loads(record.read_text())
+def _open_out(out_dir):
+    """A descriptor of the report folder (the instructor's path: a link to it is followed); every report is
+    written relative to it."""
+    return os.open(out_dir, os.O_RDONLY | os.O_DIRECTORY | getattr(os, "O_CLOEXEC", 0))
+
+
+def _run_record(out_dir, seed, assignment, resume, *, dir_fd=None):
+    """The seed of the run: from ``run.json`` when resuming (it must agree with ``seed`` if given).
+
+    ``dir_fd``: the open report folder (else ``out_dir`` is opened)."""
+    fd = _open_out(out_dir) if dir_fd is None else dir_fd
+    try:
+        return _run_record_at(fd, out_dir, seed, assignment, resume)
+    finally:
+        if dir_fd is None:
+            os.close(fd)
+
+
+def _run_record_at(fd, out_dir, seed, assignment, resume):
+    try:
+        os.stat("run.json", dir_fd=fd, follow_symlinks=False)
+        exists = True
+    except FileNotFoundError:
+        exists = False
+    if resume and exists:
+        try:
+            old = loads(read_file("run.json", 1 << 20, dir_fd=fd))
+            if not isinstance(old, dict) or not isinstance(old.get("seed"), int):
+                raise UntrustedError("no seed in it")
+        except UntrustedError as exc:
+            raise GradingError(f"--resume: {out_dir}/run.json is not the record of a run of curvature-lab grade "
+                               f"({exc})") from None
         if seed is not None and int(seed) != old["seed"]:
             raise GradingError(f"--resume: the reports in {out_dir} were graded with seed {old['seed']}, not {seed}")
         if _assignment_key(assignment) != (None if old.get("assignment") in (None, "None") else old["assignment"]):
@@ -150,7 +234,7 @@ def _run_record(out_dir, seed, assignment, resume):
                                f"not {assignment}")
         return old["seed"]
     seed = secrets.randbelow(2**32) if seed is None else int(seed)
-    write_atomic(record, json.dumps({"seed": seed, "assignment": _assignment_key(assignment)}))
+    write_at(fd, "run.json", json.dumps({"seed": seed, "assignment": _assignment_key(assignment)}))
     return seed
 
 
@@ -159,19 +243,23 @@ def _assignment_key(assignment):
     return None if assignment is None else str(assignment)
 
 
-def _resumed(path, stem, out_dir, seed):
-    """The result already in ``out_dir`` for this notebook (same seed, same bytes), or None."""
-    report = out_dir / f"{stem}.json"
-    if not report.is_file():
-        return None
+#: Largest report read back by ``--resume`` (bytes).
+MAX_REPORT_FILE = 64 << 20
+
+
+def _resumed(path, stem, out_fd, seed):
+    """The result already in the report folder ``out_fd`` for this notebook (same seed, same bytes), or None."""
     try:
-        data = json.loads(report.read_text())
+        data = loads(read_file(f"{stem}.json", MAX_REPORT_FILE, dir_fd=out_fd), constants=True)
         raw, _nb = read_submission(path)
     except (ValueError, OSError):
         return None
-    if data.get("seed") != seed or data.get("sha256") != hashlib.sha256(raw).hexdigest():
+    if not isinstance(data, dict) or data.get("seed") != seed or data.get("sha256") != hashlib.sha256(raw).hexdigest():
         return None
-    return GradeResult.from_dict(data)
+    try:
+        return GradeResult.from_dict(data)
+    except TypeError:
+        return None
 
 
 def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt="text", resume=False,
@@ -191,12 +279,33 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
     notebooks, refused = find_submissions(folder, skip=out_dir)
     if not notebooks and not refused:
         raise GradingError(f"no notebooks (.ipynb) in {folder}")
-    if (broken := probe(use_bwrap=sandbox)) is not None:
+    broken, lacking = probe(use_bwrap=sandbox)
+    if broken is not None:
         raise GradingError(f"the sandbox cannot start a submission's kernel here ({sys.executable} with the lab "
                            f"in {LAB_DIR}), so every student would get 0 points; nothing was graded. Check the "
                            f"installation. The sandbox said:\n{broken}")
-    names = report_names(folder, notebooks + [p for p, _ in refused])
-    seed = _run_record(out_dir, seed, assignment, resume)
+    if lacking and sandbox is not False:
+        raise GradingError("the sandbox lacks protections that a submission could use against the grading machine "
+                           "or the other students: " + "; ".join(lacking) + ". Nothing was graded. Fix the "
+                           "installation (see the instructors' guide on the sandbox) or, knowing this, pass "
+                           "--no-sandbox")
+    used = set()
+    names = report_names(folder, notebooks + [p for p, _ in refused], used)
+    out_fd = _open_out(out_dir)
+    try:
+        seed = _run_record(out_dir, seed, assignment, resume, dir_fd=out_fd)
+        results = _grade_all(folder, out_fd, notebooks, refused, names, used, jobs=jobs, assignment=assignment,
+                             seed=seed, fmt=fmt, resume=resume, visibility=visibility, sandbox=sandbox, log=log,
+                             **kwargs)
+    finally:
+        os.close(out_fd)
+    return results
+
+
+def _grade_all(folder, out_fd, notebooks, refused, names, used, *, jobs, assignment, seed, fmt, resume, visibility,
+               sandbox, log, **kwargs):
+    """The folder run after its checks: grade ``notebooks``, report ``refused``, write every report and
+    ``summary.csv`` into the open report folder ``out_fd``."""
     jobs = max(1, jobs or os.cpu_count() or 1)
     tmp = tempfile.mkdtemp(prefix="lab-grade-pkg-")
     prepared, packages, lock = {}, {}, threading.Lock()
@@ -205,7 +314,7 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
     def one(nb_path):
         stem, note = names[nb_path]
         student, rel = _student(folder, nb_path)
-        if resume and (done := _resumed(nb_path, stem, out_dir, seed)) is not None:
+        if resume and (done := _resumed(nb_path, stem, out_fd, seed)) is not None:
             return done
         try:
             try:
@@ -230,7 +339,7 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
             res = grade_notebook(nb_path, assignment=assignment, seed=seed, prepared=shared, submission=submission,
                                  sandbox=sandbox, **kwargs)
         except Exception as exc:  # noqa: BLE001 - one submission's failure never stops the others
-            print(f"curvature-lab grade: internal error while grading {clean(rel, 300)}:\n{traceback.format_exc()}",
+            print(f"curvature-lab grade: internal error while grading {_shown(str(rel))}:\n{traceback.format_exc()}",
                   file=log)
             res = GradeResult(str(rel), error=_("internal error of the grader while grading this notebook ({error}); "
                                                 "it scores 0 here, grade it again alone").format(
@@ -242,7 +351,7 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
             if what not in warned:
                 warned.add(what)
                 print(f"curvature-lab grade: warning: missing protection: {what}", file=log)
-        _write_reports(out_dir, stem, res, fmt, visibility)
+        _write_reports(out_fd, stem, res, fmt, visibility, log)
         return res
 
     try:
@@ -252,28 +361,37 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
         shutil.rmtree(tmp, ignore_errors=True)
     for path, why in refused:
         student, rel = _student(folder, path)
-        res = GradeResult(str(rel), student=student, error=_("refused: {why}; a submission must be a plain notebook "
-                                                             "file").format(why=why))
+        if _name_problem(folder, path) is None:
+            error = _("refused: {why}; a submission must be a plain notebook file").format(why=why)
+        else:  # no user name: shown escaped, never part of a path
+            student, rel = _shown(student), _shown(str(rel))
+            error = _("refused: {why}; a submission is SUBS/<user name>/<notebook>.ipynb or SUBS/<user name>.ipynb"
+                      ).format(why=why)
+        res = GradeResult(str(rel), student=student, error=error)
         with i18n.using("en"):
-            _write_reports(out_dir, names[path][0], res, fmt, visibility)
+            _write_reports(out_fd, names[path][0], res, fmt, visibility, log)
         results.append(res)
     collected = _read_collected(folder)
     graded = {r.student for r in results}
     for student, row in sorted(collected.items()):
         if row.get("status") != "collected" and student not in graded:  # listed by collect: no submission
-            results.append(_missing(student, row, assignment, out_dir, fmt, visibility))
+            results.append(_missing(student, row, assignment, out_fd, fmt, visibility, used, log))
     buf = io.StringIO()
     writer = csv.writer(buf)
     writer.writerow(SUMMARY_COLUMNS)
     for res in results:
         writer.writerow(_summary_row(res.student, res.notebook, res, collected))
-    write_atomic(out_dir / "summary.csv", buf.getvalue())
+    write_at(out_fd, "summary.csv", buf.getvalue())
     return results
 
 
-def _missing(student, row, assignment, out_dir, fmt, visibility):
+def _missing(student, row, assignment, out_fd, fmt, visibility, used, log=sys.stderr):
     """The result of a student ``collect`` found no notebook for: 0 out of the assignment's points."""
     aid = row.get("assignment", "")
+    try:
+        student_id(student)
+    except UntrustedError:
+        student = _shown(student)
     res = GradeResult("", student=student, assignment=aid,
                       error=_("no submission ({status}{note})").format(status=row.get("status", "missing"),
                                                                       note=f": {row['note']}" if row.get("note") else ""))
@@ -283,24 +401,32 @@ def _missing(student, row, assignment, out_dir, fmt, visibility):
         found = None
     if found is not None:
         res.assignment, res.tasks = found.id, _zero_tasks(found, res.error)
+    stem, _note = _take(_stem(f"{student}__{aid}"), used)
     with i18n.using("en"):
-        _write_reports(out_dir, "".join(c if c.isalnum() or c in "._-" else "_" for c in f"{student}__{aid}")[:150],
-                       res, fmt, visibility)
+        _write_reports(out_fd, stem, res, fmt, visibility, log)
     return res
 
 
-def _write_reports(out_dir, stem, res, fmt, visibility):
-    write_atomic(out_dir / f"{stem}.json", json.dumps(res.to_dict(), indent=2, ensure_ascii=False))
-    write_atomic(out_dir / f"{stem}.txt", res.text() + "\n")
-    if fmt == "gradescope":
-        write_atomic(out_dir / f"{stem}.results.json", json.dumps(res.gradescope(visibility), indent=2,
-                                                                  ensure_ascii=False))
+def _write_reports(out_fd, stem, res, fmt, visibility, log=sys.stderr):
+    """The reports of ``res`` into the open report folder: ``<stem>.json``, ``.txt`` (and ``.results.json``).  A
+    report that cannot be written is said on ``log`` and in the result's notes; it stops nothing."""
+    try:
+        write_at(out_fd, f"{stem}.json", json.dumps(res.to_dict(), indent=2, ensure_ascii=False))
+        write_at(out_fd, f"{stem}.txt", res.text() + "\n")
+        if fmt == "gradescope":
+            write_at(out_fd, f"{stem}.results.json", json.dumps(res.gradescope(visibility), indent=2,
+                                                                 ensure_ascii=False))
+    except (OSError, ValueError) as exc:
+        message = _("the report {name} could not be written: {error}").format(
+            name=f"{stem}.json", error=clean(exc, 300, keep_newlines=False))
+        print(f"curvature-lab grade: {_shown(res.notebook or res.student)}: {message}", file=log)
+        res.notes.append(message)
 
 
 def result_line(res):
     """The line ``grade`` prints per submission: the notebook (the student where there is none), the score, an error."""
     return clean(f"{res.notebook or res.student}: {res.score:g} / {res.max_score:g}"
-                 + (f"  ({res.error})" if res.error else ""), 400)
+                 + (f"  ({res.error})" if res.error else ""), 400, keep_newlines=False)
 
 
 def _positive(kind):

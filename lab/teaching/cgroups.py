@@ -162,12 +162,14 @@ def create(memory, processes, *, root=ROOT):
 
 
 @contextlib.contextmanager
-def mount_budget(folder, size):
-    """Mount a tmpfs of ``size`` bytes on ``folder`` for the block (root only); yields whether it worked."""
+def mount_budget(folder, size, owner=None):
+    """Mount a tmpfs of ``size`` bytes on ``folder`` for the block (root only), owned by the user and group id
+    ``owner`` (default: root); yields whether it worked."""
     folder = Path(folder)
     mounted = False
     if os.geteuid() == 0:
-        done = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={int(size)},mode=0700,nosuid,nodev",
+        ids = f",uid={int(owner)},gid={int(owner)}" if owner is not None else ""
+        done = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={int(size)},mode=0700,nosuid,nodev{ids}",
                                "lab-grade", str(folder)], capture_output=True, check=False)
         mounted = done.returncode == 0
     try:

@@ -4,50 +4,88 @@
 ``HOMES`` is a folder with one home per student, named by the user name: the local spawner's ``/home``, or
 the hub's home volumes mounted in an admin pod (``deploy/collect.md``).  In each home the notebook of the
 assignment is the one whose metadata ``lab.assignment`` is ``ID`` (every exercise carries it, whatever the
-student renamed the file to), else one whose file name is ``ID.ipynb``; of several, the one saved last (the
-others are noted).  It is copied to ``SUBS/<student>/<ID>.ipynb`` with its modification time, which is the
-hand-in time: the time the student last saved it (JupyterLab saves on every change and checkpoint).
+student renamed the file to), else one whose file name is ``ID.ipynb``; of several, the one saved last by its
+modification time (the others are noted).  It is copied to ``SUBS/<student>/<ID>.ipynb``, with the hand-in time
+as its modification time.
 
-``SUBS/collected.csv`` records per student the file, the hand-in time, whether it is late and by how many
-seconds, its SHA-256 and size, and a status: ``collected``, ``missing`` (no notebook of the assignment;
-also for students of ``--students`` without a home) or ``refused`` (a symbolic link, a hard link, a file
-over the size limit).  Free-text answers of the assignment's questions go to ``SUBS/written-<ID>.html`` and
-``.csv`` (:mod:`lab.teaching.written`).
+**The hand-in time** (``submitted``) comes from nothing the student controls.  It is the earlier of two times,
+each an upper bound of when the notebook's bytes last changed:
 
-A home is only read: files are opened without following links, folders walked without following links
-and bounded in depth and number, and nothing in a home is written, renamed or touched.  Collecting again into the same ``SUBS``
-replaces the copies it made before, but refuses to overwrite a copy that was changed since (an instructor's
-correction), naming it.
+* ``changed``, the file's status-change time (``ctime``): the kernel sets it, from its own clock, on every write,
+  rename, ``chmod`` or change of the file's times, and its owner cannot set it back (``touch -d`` sets the
+  modification time and moves the status-change time to now);
+* ``first_seen``, the collector's first sight of exactly these bytes: the time, on the collecting machine's
+  clock, at which a collect into this ``SUBS`` first read them.  It is kept from ``SUBS/collected.csv`` while
+  the SHA-256 is unchanged, so that a collect at the deadline and another one later keep the on-time record of
+  every notebook not changed in between.
+
+Trusted are only the kernel's clock and the collector's, never a time the student can write.  ``modified``, the
+file's modification time, is what JupyterLab's last save left, but its owner can set it to anything: it is
+reported beside, never trusted, with a note when it is before the deadline and the hand-in time after it.  The
+first sight is as good as the collector's clock; the status-change time is moved by any change to the file, never
+back.  So a notebook changed in any way after the deadline (a save, even without an edit, a rename, a
+``touch``) is late, unless an earlier collect saw the same bytes on time.  Copying the homes (``kubectl cp``,
+``tar``, ``rsync``, a backup restore) gives every file the time of the copy as its status-change time: collect
+from the live homes (a local ``/home``, the volumes mounted in a pod), or at least once at the deadline into the
+``SUBS`` that later collects use.  On NFS the status-change time is the file server's clock.
+
+``SUBS/collected.csv`` records per student the file, the hand-in time (``submitted``) and the three times it
+comes from or is reported beside (``modified``, ``changed``, ``first_seen``, ISO 8601 in UTC), whether it is
+late and by how many seconds (from the hand-in time), its SHA-256 and size, and a status: ``collected``,
+``missing`` (no notebook of the assignment; also for students of ``--students`` without a home) or ``refused``
+(a symbolic link, a FIFO or device, a hard link, a file over the size limit, a file that kept changing while it
+was read).  Free-text answers of the assignment's questions go to ``SUBS/written-<ID>.html`` and ``.csv``
+(:mod:`lab.teaching.written`).
+
+A home is only read, and what is checked is what is read: ``HOMES`` is opened once, each home, folder and
+notebook by one ``open`` relative to its parent's descriptor without following a symbolic link (a folder swapped
+for a link to a classmate's home between two steps is not entered, a notebook that is a link is refused), and
+every check (a regular file, one hard link, the size limit, the times) is made with ``fstat`` on the descriptor
+the bytes are then read from.  The walk is bounded in depth and number, skips caches and hidden folders, and
+nothing in a home is written, renamed or touched.  Collecting again into the same ``SUBS`` replaces the copies
+it made before, but refuses to overwrite a copy that was changed since (an instructor's correction), naming it.
 """
 
 import argparse
 import csv
+import errno
 import hashlib
 import io
 import json
 import os
+import stat
 import sys
-from datetime import datetime, timezone
+from datetime import datetime, timedelta, timezone
 from pathlib import Path
 
 import nbformat
+from nbformat.v4.nbjson import JSONReader
 
 from .. import i18n
 from ..i18n import _
 from . import written
 from .assignments import DEFAULT_FOLDER
 from .grading import MAX_NOTEBOOK, write_atomic
-from .untrusted import UntrustedError, clean, csv_cell, plain_file, read_file
+from .untrusted import MAX_CELLS, UntrustedError, clean, csv_cell, loads
 
 __all__ = ["COLLECTED_COLUMNS", "CollectError", "collect", "find_notebook", "main", "parse_deadline"]
 
-COLLECTED_COLUMNS = ("student", "assignment", "status", "file", "submitted", "deadline", "late", "late_seconds",
-                     "sha256", "bytes", "note")
+COLLECTED_COLUMNS = ("student", "assignment", "status", "file", "submitted", "modified", "changed", "first_seen",
+                     "deadline", "late", "late_seconds", "sha256", "bytes", "note")
 #: Folders of a home never searched (caches, installed packages, checkpoints, the feedback the lab returns).
 SKIP_DIRS = {".ipynb_checkpoints", ".cache", ".local", ".conda", ".npm", ".ipython", ".jupyter", "node_modules",
              "__pycache__", ".git", ".venv", "venv", "site-packages", "feedback"}
 MAX_DEPTH = 6
 MAX_FILES = 5000
+#: Reads of a notebook that changed while it was read before it is refused.
+READ_ATTEMPTS = 3
+
+_CLOEXEC = getattr(os, "O_CLOEXEC", 0)
+#: A folder of a home: one path component, never through a symbolic link.
+_FOLDER = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | _CLOEXEC
+#: A notebook: never through a symbolic link, and a FIFO never blocks the collector.
+_FILE = os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | _CLOEXEC
+_EPOCH = datetime(1970, 1, 1, tzinfo=timezone.utc)
 
 
 class CollectError(ValueError):
@@ -64,64 +102,196 @@ def parse_deadline(text):
     return when.astimezone() if when.tzinfo is None else when
 
 
-def _notebooks(home):
-    """Plain-looking ``.ipynb`` paths in ``home``: walked without following links, bounded in depth and count."""
-    count = 0
-    for here, dirs, files in os.walk(home, followlinks=False):
-        depth = len(Path(here).relative_to(home).parts)
-        dirs[:] = sorted(d for d in dirs if d not in SKIP_DIRS and not d.startswith(".") and depth < MAX_DEPTH)
-        for name in sorted(files):
-            if name.endswith(".ipynb"):
-                count += 1
-                if count > MAX_FILES:
-                    return
-                yield Path(here) / name
+def _clock():
+    """The collector's own clock: the time at which it sees a notebook's bytes (timezone-aware)."""
+    return datetime.now(timezone.utc)
+
+
+def _ns(when):
+    """Nanoseconds since the epoch of a timezone-aware datetime (exact to the microsecond)."""
+    return (when - _EPOCH) // timedelta(microseconds=1) * 1000
+
+
+def _iso(ns):
+    """ISO 8601 in UTC of a time in nanoseconds since the epoch (to the microsecond)."""
+    return (_EPOCH + timedelta(microseconds=ns // 1000)).isoformat()
+
+
+def _read_ns(text):
+    """Nanoseconds of an ISO 8601 time from an earlier collected.csv, or None."""
+    try:
+        when = datetime.fromisoformat(str(text))
+    except ValueError:
+        return None
+    return _ns(when.astimezone() if when.tzinfo is None else when)
+
+
+def _entries(dir_fd):
+    """``(folders, others)``: the names in the open folder ``dir_fd``, sorted; a folder by the entry's own type (a
+    symbolic link to a folder is no folder)."""
+    folders, others = [], []
+    try:
+        with os.scandir(dir_fd) as entries:
+            for entry in entries:
+                try:
+                    (folders if entry.is_dir(follow_symlinks=False) else others).append(entry.name)
+                except OSError:
+                    continue
+    except OSError:
+        return [], []
+    return sorted(folders), sorted(others)
+
+
+def _notebooks(dir_fd, rel=Path(), depth=0, budget=None):
+    """``(rel, dir_fd, name)`` of each ``.ipynb`` name in the open folder ``dir_fd`` and below: each sub-folder
+    opened once, by its name relative to its parent's descriptor and without following a symbolic link (a folder
+    replaced by a link since it was listed is not entered), bounded in depth and count.  ``dir_fd`` is the
+    notebook's folder, open until the next item: read the notebook through it."""
+    budget = [MAX_FILES] if budget is None else budget
+    folders, others = _entries(dir_fd)
+    for name in others:
+        if name.endswith(".ipynb"):
+            budget[0] -= 1
+            if budget[0] < 0:
+                return
+            yield rel / name, dir_fd, name
+    if depth >= MAX_DEPTH:
+        return
+    for name in folders:
+        if name in SKIP_DIRS or name.startswith("."):
+            continue
+        try:
+            sub = os.open(name, _FOLDER, dir_fd=dir_fd)
+        except OSError:  # no longer a folder (a link in its place), or unreadable: not searched
+            continue
+        try:
+            yield from _notebooks(sub, rel / name, depth + 1, budget)
+        finally:
+            os.close(sub)
+        if budget[0] < 0:
+            return
+
+
+def _kind(mode):
+    for test, name in ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket"), (stat.S_ISDIR, "a folder"), (stat.S_ISLNK, "a symbolic link")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def _refusal(info):
+    """Why the file of ``os.fstat`` result ``info`` is not collected (a short English reason), or None."""
+    if not stat.S_ISREG(info.st_mode):
+        return _kind(info.st_mode)
+    if info.st_nlink > 1:
+        return f"a hard link ({info.st_nlink} names for one file)"
+    if info.st_size > MAX_NOTEBOOK:
+        return f"{info.st_size} bytes; at most {MAX_NOTEBOOK} are read"
+    return None
+
+
+def _read(dir_fd, name):
+    """``(raw, info)`` of the notebook ``name`` in the open folder ``dir_fd``: opened once, without following a
+    symbolic link and without blocking; every check and the times (``info``, from ``os.fstat`` after the read) are
+    of that descriptor, and the bytes are read from it.  A file that changed while it was read (its status-change
+    time, modification time or size differ before and after) is read again, at most :data:`READ_ATTEMPTS` times.
+    :class:`UntrustedError` with a short reason for a refused file."""
+    try:
+        fd = os.open(name, _FILE, dir_fd=dir_fd)
+    except OSError as exc:
+        raise UntrustedError("a symbolic link" if exc.errno == errno.ELOOP else
+                             f"cannot be read ({exc.strerror})") from None
+    try:
+        for _attempt in range(READ_ATTEMPTS):
+            before = os.fstat(fd)
+            why = _refusal(before)
+            if why:
+                raise UntrustedError(why)
+            chunks, size = [], 0
+            while size <= MAX_NOTEBOOK:
+                chunk = os.pread(fd, min(MAX_NOTEBOOK + 1 - size, 1 << 20), size)
+                if not chunk:
+                    break
+                chunks.append(chunk)
+                size += len(chunk)
+            after = os.fstat(fd)
+            why = _refusal(after) or (f"more than {MAX_NOTEBOOK} bytes" if size > MAX_NOTEBOOK else None)
+            if why:
+                raise UntrustedError(why)
+            times = (before.st_ctime_ns, before.st_mtime_ns, before.st_size)
+            if times == (after.st_ctime_ns, after.st_mtime_ns, after.st_size) and size == after.st_size:
+                return b"".join(chunks), after
+        raise UntrustedError(f"changed while it was being read ({READ_ATTEMPTS} times)")
+    finally:
+        os.close(fd)
 
 
 def _meta_id(raw):
+    """The assignment id a notebook's metadata claims, and the notebook (not validated: the grader does that once);
+    (None, None) for what is no notebook.  Read with a bounded nesting and cell count, never quadratic."""
     try:
-        nb = nbformat.reads(raw.decode("utf-8"), as_version=4)
-    except Exception:  # noqa: BLE001 - an unreadable notebook is simply not this assignment's (by metadata)
+        data = loads(raw, max_depth=64)
+        if not isinstance(data, dict) or not isinstance(data.get("cells", []), list) \
+                or len(data.get("cells", [])) > MAX_CELLS or not isinstance(data.get("metadata", {}), dict):
+            return None, None
+        nb = JSONReader().to_notebook(data)  # as nbformat reads it (sources as one string), not validated
+    except (UntrustedError, ValueError, TypeError, AttributeError, RecursionError):  # simply not this assignment's (by metadata)
         return None, None
     meta = nb.metadata.get("lab") if isinstance(nb.metadata.get("lab"), dict) else {}
     return (str(meta["assignment"]) if "assignment" in meta else None), nb
+
+
+def _find(home_fd, assignment_id):
+    """``(found, notes)`` for the open home ``home_fd``: ``found`` is ``(rel, raw, notebook, info, seen)`` of the
+    student's notebook of the assignment (``info`` the ``os.fstat`` of the descriptor its bytes were read from,
+    ``seen`` the collector's time after reading them), or None; refused files of the assignment's name are in the
+    notes."""
+    candidates, notes = [], []
+    for rel, dir_fd, name in _notebooks(home_fd):
+        named = rel.stem == assignment_id
+        try:
+            raw, info = _read(dir_fd, name)
+        except UntrustedError as exc:
+            if named:
+                notes.append(f"{rel} refused: {exc}")
+            continue
+        seen = _clock()
+        claimed, nb = _meta_id(raw)
+        by_meta, by_name = claimed == assignment_id, named and claimed is None
+        if by_meta or by_name:
+            candidates.append(((0 if by_meta else 1, -info.st_mtime_ns, str(rel)), (rel, raw, nb, info, seen)))
+    if not candidates:
+        return None, notes
+    candidates.sort(key=lambda c: c[0])
+    others = [str(c[1][0]) for c in candidates[1:]]
+    if others:
+        notes.append(f"also found, not collected (saved earlier or matched by file name only): {', '.join(others)}")
+    return candidates[0][1], notes
 
 
 def find_notebook(home, assignment_id):
     """``(path, raw, notebook, notes)`` of the student's notebook of the assignment in ``home``, or ``(None, …)``.
 
     Refused files (links, oversized) are returned in the notes; the path is None then if nothing else matched.
+    ``home`` is opened without following a symbolic link (an OSError if it is not a folder).
     """
-    candidates, notes = [], []
-    for path in _notebooks(home):
-        why = plain_file(path, home)
-        if why:
-            if path.stem == assignment_id:
-                notes.append(f"{path.relative_to(home)} refused: {why}")
-            continue
-        try:
-            raw = read_file(path, MAX_NOTEBOOK)
-        except UntrustedError as exc:
-            if path.stem == assignment_id:
-                notes.append(f"{path.relative_to(home)} refused: {exc}")
-            continue
-        claimed, nb = _meta_id(raw)
-        by_meta, by_name = claimed == assignment_id, path.stem == assignment_id and claimed is None
-        if by_meta or by_name:
-            candidates.append((0 if by_meta else 1, -os.lstat(path).st_mtime, path, raw, nb))
-    if not candidates:
+    home_fd = os.open(home, _FOLDER)
+    try:
+        found, notes = _find(home_fd, assignment_id)
+    finally:
+        os.close(home_fd)
+    if found is None:
         return None, None, None, notes
-    candidates.sort(key=lambda c: (c[0], c[1], str(c[2])))
-    _rank, _t, path, raw, nb = candidates[0]
-    others = [str(c[2].relative_to(home)) for c in candidates[1:]]
-    if others:
-        notes.append(f"also found, not collected (saved earlier or matched by file name only): {', '.join(others)}")
-    return path, raw, nb, notes
+    rel, raw, nb, _info, _seen = found
+    return Path(home) / rel, raw, nb, notes
 
 
-def _students(homes, roster):
-    names = sorted(d.name for d in Path(homes).iterdir()
-                   if d.is_dir() and not d.is_symlink() and not d.name.startswith(".") and d.name != "lost+found")
+def _students(homes_fd, roster):
+    """The homes in the open folder of homes (folders by their own type, not links; no hidden ones, no
+    ``lost+found``), and the students of the roster without one."""
+    folders, _others = _entries(homes_fd)
+    names = [name for name in folders if not name.startswith(".") and name != "lost+found"]
     return names, [s for s in roster if s not in names]
 
 
@@ -138,7 +308,20 @@ def _read_roster(path):
     return [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
 
 
+def _find_in(homes_fd, student, assignment_id):
+    """:func:`_find` in the home ``student`` of the open folder of homes, opened without following a link."""
+    try:
+        home_fd = os.open(student, _FOLDER, dir_fd=homes_fd)
+    except OSError as exc:  # replaced or removed since the homes were listed
+        return None, [f"home refused: {'a symbolic link' if exc.errno == errno.ELOOP else exc.strerror}"]
+    try:
+        return _find(home_fd, assignment_id)
+    finally:
+        os.close(home_fd)
+
+
 def _previous(out_dir):
+    """``{student: row}`` of an earlier ``collected.csv`` in ``out_dir`` (for its SHA-256 and first-seen times)."""
     path = Path(out_dir) / "collected.csv"
     if not path.is_file():
         return {}
@@ -149,34 +332,52 @@ def _previous(out_dir):
 def collect(homes, assignment_id, deadline, out_dir, *, roster=(), exercises=DEFAULT_FOLDER, log=sys.stderr):
     """Collect ``assignment_id`` from every home under ``homes`` into ``out_dir``; returns the rows of collected.csv."""
     homes, out_dir = Path(homes), Path(out_dir)
-    if not homes.is_dir():
-        raise CollectError(f"{homes} is not a folder of homes")
     deadline = parse_deadline(deadline) if not isinstance(deadline, datetime) else deadline
-    students, without_home = _students(homes, roster)
+    deadline = deadline.astimezone() if deadline.tzinfo is None else deadline  # no offset: local time
+    try:
+        homes_fd = os.open(homes, os.O_RDONLY | os.O_DIRECTORY | _CLOEXEC)
+    except OSError:
+        raise CollectError(f"{homes} is not a folder of homes") from None
+    try:
+        return _collect(homes_fd, assignment_id, deadline, out_dir, roster, exercises, log)
+    finally:
+        os.close(homes_fd)
+
+
+def _collect(homes_fd, assignment_id, deadline, out_dir, roster, exercises, log):
+    students, without_home = _students(homes_fd, roster)
     previous = _previous(out_dir)
     plan, rows, answers = [], [], {}
     exercise_nb, exercise_ids = _exercise(exercises, assignment_id)
     questions = written.questions_of(exercise_nb) if exercise_nb is not None else []
     for student in students:
-        path, raw, nb, notes = find_notebook(homes / student, assignment_id)
+        notebook, notes = _find_in(homes_fd, student, assignment_id)
         row = dict.fromkeys(COLLECTED_COLUMNS, "")
         row.update(student=student, assignment=assignment_id, deadline=deadline.isoformat())
-        if path is None:
+        if notebook is None:
             row.update(status="refused" if notes else "missing", note="; ".join(notes))
             rows.append(row)
             continue
-        mtime = os.lstat(path).st_mtime
-        submitted = datetime.fromtimestamp(mtime, timezone.utc)
-        late = max(0.0, (submitted - deadline).total_seconds())
+        rel, raw, nb, info, seen = notebook
         digest = hashlib.sha256(raw).hexdigest()
         target = out_dir / student / f"{assignment_id}.ipynb"
         old = previous.get(student)
         if target.exists() and old and hashlib.sha256(target.read_bytes()).hexdigest() != old.get("sha256"):
             raise CollectError(f"{target} was changed since it was collected; move it away to keep it, then collect "
                                "again")
-        row.update(status="collected", file=str(path.relative_to(homes / student)), submitted=submitted.isoformat(),
-                   late=late > 0, late_seconds=round(late), sha256=digest, bytes=len(raw), note="; ".join(notes))
-        plan.append((target, raw, mtime))
+        first_seen = _ns(seen)
+        if old and old.get("assignment") == assignment_id and old.get("sha256") == digest:
+            earlier = _read_ns(old.get("first_seen", ""))  # these bytes were seen before (a collect at the deadline)
+            first_seen = min(first_seen, earlier) if earlier is not None else first_seen
+        handed_in = min(info.st_ctime_ns, first_seen)
+        late = max(0, handed_in - _ns(deadline)) / 1e9
+        if info.st_mtime_ns <= _ns(deadline) < handed_in:
+            notes.append(f"modification time {_iso(info.st_mtime_ns)} is before the deadline, but the file was last "
+                         f"changed at {_iso(info.st_ctime_ns)} (a write, a rename or a change of its times)")
+        row.update(status="collected", file=str(rel), submitted=_iso(handed_in), modified=_iso(info.st_mtime_ns),
+                   changed=_iso(info.st_ctime_ns), first_seen=_iso(first_seen), late=late > 0,
+                   late_seconds=round(late), sha256=digest, bytes=len(raw), note="; ".join(notes))
+        plan.append((target, raw, handed_in))
         rows.append(row)
         if questions:
             answers[student] = written.answers_of(nb, questions, exercise_ids)
@@ -186,11 +387,11 @@ def collect(homes, assignment_id, deadline, out_dir, *, roster=(), exercises=DEF
                    note="no home")
         rows.append(row)
     out_dir.mkdir(parents=True, exist_ok=True)
-    for target, raw, mtime in plan:
+    for target, raw, handed_in in plan:
         target.parent.mkdir(exist_ok=True)
         tmp = target.with_name(f".{target.name}.tmp")
         tmp.write_bytes(raw)
-        os.utime(tmp, (mtime, mtime))
+        os.utime(tmp, ns=(handed_in, handed_in))  # the hand-in time, for tools that read a file's time
         os.replace(tmp, target)
     buf = io.StringIO()
     writer = csv.writer(buf)

@@ -6,8 +6,11 @@ with the score, every task, every case with its status and, for each failing cas
 came out and the hint, then the notes.  JupyterLab opens it from the file browser.
 
 Nothing else in a home is touched.  The page is written as the home's owner would have it (owner and group
-of the home), through descriptors opened without following links, so a ``feedback`` folder or file that a
-student replaced by a symbolic link is refused, never followed (the instructor may run this as root).  Every
+of the home), through descriptors opened without following links, so a home, a ``feedback`` folder or a file
+that a student replaced by a symbolic link is refused, never followed (the instructor may run this as root).
+``HOMES`` is opened once; a report's student must be a user name (:func:`~lab.teaching.untrusted.student_id`:
+never ``..``, a leading dot, a separator, a line break or an invisible character), opened as one folder in it,
+and the page is one file name in its ``feedback`` folder: no page lands outside the homes.  Every
 page ends with a stamp, the SHA-256 of all its bytes before it, and a ``feedback/<assignment>.html`` is replaced
 only when it is exactly such a page: one the student edited or wrote (or a page written before the stamp) is
 kept, and the new page goes next to it with a number (``<assignment>.2.html``).  A stamp a student forges makes
@@ -16,17 +19,19 @@ the command replace that file only, never another.
 A late student's page says how late the notebook was handed in (``late_seconds`` in the report folder's
 ``summary.csv``) and, given the gradebook's ``--late-penalty`` (``--late-cap``, ``--grace``), the penalty.
 
-One student's assignment in two report folders (``feedback reports/*`` with ``reports/05late``) is an error
-naming both, before any page is written; of a student's two notebooks in one folder the better is returned,
-the one the gradebook counts.
+One student's data never stops the pages of the class; each of these is a line on stderr and that student's
+report is skipped: the assignment in two report folders (``feedback reports/*`` with ``reports/05late``, or a
+notebook claiming an assignment graded in another folder; the line names both, and no order of the folders
+decides which page a student gets), a student that is no user name, no home, a report that is not valid JSON or
+larger than :data:`MAX_REPORT`, a page that cannot be made or written.  Of a student's two notebooks in one
+folder the better is returned, the one the gradebook counts.  Errors of the instructor's (no reports at all,
+``HOMES`` not a folder, bad options) stop the command.
 """
 
 import argparse
 import hashlib
-import json
 import math
 import os
-import secrets
 import sys
 from pathlib import Path
 
@@ -35,7 +40,7 @@ from ..i18n import N_, _
 from .gradebook import add_late_options, late_policy, one_per_student, summary_rows
 from .grading import GradeResult
 from .pages import STATUS_COLOURS, e, page
-from .untrusted import UntrustedError, clean, read_file
+from .untrusted import UntrustedError, clean, file_name, loads, open_folder, read_file, student_id, write_at
 
 __all__ = ["GENERATOR", "STAMP", "FeedbackError", "feedback", "main", "render", "stamped", "write_into_home"]
 
@@ -49,6 +54,8 @@ GENERATOR = "<meta name='generator' content='curvature-lab feedback'>"
 STAMP = "<!-- curvature-lab feedback sha256:{} -->\n"
 #: Largest file read back to check its stamp (bytes); a larger one is not a page of this command.
 MAX_PAGE = 64 << 20
+#: Largest report read (bytes); a larger one is skipped, with a line on stderr.
+MAX_REPORT = 64 << 20
 
 
 class FeedbackError(ValueError):
@@ -124,7 +131,8 @@ def render(result, late_seconds=None, policy=None):
 
 
 def _safe_name(text):
-    return "".join(c if c.isalnum() or c in "._-" else "_" for c in str(text))[:120] or "feedback"
+    name = "".join(c if c.isalnum() or c in "._-" else "_" for c in str(text))[:120] or "feedback"
+    return "_" + name[1:] if name.startswith(".") else name
 
 
 def stamped(text):
@@ -141,44 +149,48 @@ def _ours(data):
 
 def write_into_home(home, name, text):
     """Write the page ``text`` to ``home/feedback/<name>.html`` (see the module docstring); returns the path
-    written."""
-    flags = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW
+    written.  ``home``: the home's path (a symbolic link there is refused); ``name``: one file name."""
     try:
-        home_fd = os.open(home, flags)
-    except OSError as exc:
-        raise FeedbackError(f"{home}: not a home folder ({exc.strerror})") from None
+        home_fd = open_folder(home)
+    except UntrustedError as exc:
+        raise FeedbackError(f"{home}: not a home folder ({exc})") from None
     try:
-        owner = os.fstat(home_fd)
-        try:
-            os.mkdir("feedback", 0o755, dir_fd=home_fd)
-            created = True
-        except FileExistsError:
-            created = False
-        try:
-            folder_fd = os.open("feedback", flags, dir_fd=home_fd)
-        except OSError as exc:
-            raise FeedbackError(f"{home}/feedback is not a folder ({exc.strerror}): left as it is") from None
-        try:
-            if created and os.geteuid() == 0:
-                os.fchown(folder_fd, owner.st_uid, owner.st_gid)
-            for target in (f"{name}.html", *(f"{name}.{k}.html" for k in range(2, 100))):
-                if not _foreign(target, folder_fd):
-                    break
-            else:
-                raise FeedbackError(f"{home}/feedback: {name}.html … {name}.99.html are all the student's: nothing "
-                                    "written")
-            tmp = f".{target}.{secrets.token_hex(8)}.tmp"  # a new name: no file of the student's is removed
-            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644, dir_fd=folder_fd)
-            with os.fdopen(fd, "wb") as fh:
-                fh.write(stamped(text))
-                if os.geteuid() == 0:
-                    os.fchown(fh.fileno(), owner.st_uid, owner.st_gid)
-            os.replace(tmp, target, src_dir_fd=folder_fd, dst_dir_fd=folder_fd)
-            return Path(home) / "feedback" / target
-        finally:
-            os.close(folder_fd)
+        return _write_page(home_fd, home, name, text)
     finally:
         os.close(home_fd)
+
+
+def _write_page(home_fd, home, name, text):
+    """:func:`write_into_home` into the home opened as ``home_fd`` (``home``: its path, for messages)."""
+    try:
+        file_name(f"{name}.html") and file_name(f"{name}.99.html")
+    except UntrustedError as exc:
+        raise FeedbackError(f"{home}: the page {exc}") from None
+    owner = os.fstat(home_fd)
+    try:
+        os.mkdir("feedback", 0o755, dir_fd=home_fd)
+        created = True
+    except FileExistsError:
+        created = False
+    try:
+        folder_fd = os.open("feedback", os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW, dir_fd=home_fd)
+    except OSError as exc:
+        raise FeedbackError(f"{home}/feedback is not a folder ({exc.strerror}): left as it is") from None
+    try:
+        root = os.geteuid() == 0
+        if created and root:
+            os.fchown(folder_fd, owner.st_uid, owner.st_gid)
+        for target in (f"{name}.html", *(f"{name}.{k}.html" for k in range(2, 100))):
+            if not _foreign(target, folder_fd):
+                break
+        else:
+            raise FeedbackError(f"{home}/feedback: {name}.html … {name}.99.html are all the student's: nothing "
+                                "written")
+        # a new temporary name: no file of the student's is removed; the rename replaces a link, never follows it
+        write_at(folder_fd, target, stamped(text), owner=(owner.st_uid, owner.st_gid) if root else None, mode=0o644)
+        return Path(home) / "feedback" / target
+    finally:
+        os.close(folder_fd)
 
 
 def _foreign(name, folder_fd):
@@ -193,8 +205,9 @@ def _foreign(name, folder_fd):
         return True
 
 
-def _reports(folders):
-    """``(folder, result, late seconds)`` of every report in ``folders``; the lateness from the folder's summary."""
+def _reports(folders, log):
+    """``(folder, result, score, late seconds)`` of every report in ``folders``; the lateness from the folder's
+    summary.  A report that cannot be read (not JSON, too large, not a result) is a line on ``log``, and skipped."""
     for folder in folders:
         late = {}
         if (Path(folder) / "summary.csv").is_file():
@@ -202,39 +215,87 @@ def _reports(folders):
         for path in sorted(Path(folder).glob("*.json")):
             if path.name == "run.json" or path.name.endswith(".results.json"):
                 continue
-            data = json.loads(path.read_text())
-            if isinstance(data, dict) and "tasks" in data and data.get("student"):
+            try:
+                data = loads(read_file(path, MAX_REPORT), constants=True)
+                if not (isinstance(data, dict) and "tasks" in data and data.get("student")):
+                    continue  # another JSON file
                 result = GradeResult.from_dict(data)
-                yield folder, result, late.get(result.student)
+                score = float(result.score)  # its tasks' points: one_per_student compares them
+            except (UntrustedError, TypeError, KeyError, ValueError) as exc:
+                print("curvature-lab feedback: " + _("{file}: not a report of curvature-lab grade ({error}): "
+                                                     "skipped").format(file=path, error=clean(
+                          exc if isinstance(exc, UntrustedError) else f"{type(exc).__name__}: {exc}", 300,
+                          keep_newlines=False)),
+                      file=log)
+                continue
+            yield folder, result, score, late.get(result.student)
 
 
-def feedback(reports, homes, *, late=None, log=sys.stderr):
+def _shown(student):
+    """A name that is no user name, as a message shows it: escaped, one line, in quotes."""
+    return f"'{clean(student, 100, keep_newlines=False)}'"
+
+
+def feedback(reports, homes, *, late=None, log=None):
     """Put every report of the folders ``reports`` into its student's home under ``homes``; returns the paths.
 
     ``late``: the gradebook's :class:`~lab.teaching.gradebook.LatePolicy`, for the penalty on a late student's page.
+    ``log``: where a student's skipped page is said (default: stderr).
     """
+    log = sys.stderr if log is None else log
     homes = Path(homes)
-    if not homes.is_dir():
-        raise FeedbackError(f"{homes} is not a folder of homes")
+    try:
+        homes_fd = os.open(homes, os.O_RDONLY | os.O_DIRECTORY | getattr(os, "O_CLOEXEC", 0))
+    except OSError:
+        raise FeedbackError(f"{homes} is not a folder of homes") from None
+    try:
+        return _feedback(reports, homes, homes_fd, late, log)
+    finally:
+        os.close(homes_fd)
+
+
+def _feedback(reports, homes, homes_fd, late, log):
     folders = reports if isinstance(reports, (list, tuple)) else [reports]
-    chosen = one_per_student(((folder, res.student, res.assignment, res.score, (res, seconds))
-                              for folder, res, seconds in _reports(folders)), FeedbackError)
-    written = []
-    for result, late_seconds in chosen.values():
-        home = homes / result.student
-        if not home.is_dir() or home.is_symlink():
-            print("curvature-lab feedback: " + _("no home for {student}: skipped").format(student=clean(result.student, 80)),
-                  file=log)
-            continue
-        try:
-            written.append(write_into_home(home, _safe_name(result.assignment or "feedback"),
-                                           render(result, late_seconds, late)))
-        except FeedbackError as exc:
-            print(f"curvature-lab feedback: {exc}", file=log)
-    if not chosen:
+    items = [(folder, res.student, res.assignment, score, (res, seconds))
+             for folder, res, score, seconds in _reports(folders, log)]
+    if not items:
         raise FeedbackError(f"no reports (<name>.json written by curvature-lab grade) in "
                             f"{', '.join(map(str, folders))}")
-    print(_("feedback for {n} of {total} reports").format(n=len(written), total=len(chosen)), file=log)
+    chosen, conflicts = one_per_student(items)
+
+    def say(text):
+        print("curvature-lab feedback: " + text, file=log)
+
+    for (student, aid), where in conflicts.items():
+        say(_("{student} has assignment {assignment} in two report folders, {first} and {second}: no page written; "
+              "pass only the folder that counts").format(
+                  student=clean(student, 100, keep_newlines=False), assignment=clean(aid, 100, keep_newlines=False),
+                  first=where[0], second=", ".join(map(str, where[1:]))))
+    written = []
+    for result, late_seconds in chosen.values():
+        try:
+            student = student_id(result.student)
+        except UntrustedError as exc:
+            say(_("the report of {student} skipped: {why}").format(student=_shown(result.student), why=exc))
+            continue
+        try:
+            home_fd = open_folder(student, dir_fd=homes_fd)
+        except UntrustedError:
+            say(_("no home for {student}: skipped").format(student=student))
+            continue
+        try:
+            try:
+                text = render(result, late_seconds, late)
+            except Exception as exc:  # noqa: BLE001 - one student's damaged report never stops the others
+                say(_("{student}: the page could not be made: {error}").format(
+                    student=student, error=clean(f"{type(exc).__name__}: {exc}", 300, keep_newlines=False)))
+                continue
+            written.append(_write_page(home_fd, homes / student, _safe_name(result.assignment or "feedback"), text))
+        except (FeedbackError, OSError) as exc:
+            say(clean(exc, 500, keep_newlines=False))
+        finally:
+            os.close(home_fd)
+    print(_("feedback for {n} of {total} reports").format(n=len(written), total=len(chosen) + len(conflicts)), file=log)
     return written
 
 

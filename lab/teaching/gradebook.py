@@ -11,16 +11,24 @@ One row per student and a column per assignment, from the ``summary.csv`` of gra
   ``--grace`` minutes), at most ``--late-cap`` percent; the lateness comes from ``collected.csv`` through
   the summary.
 
-One student's assignment in two report folders (``reports/05late reports/05``) is an error naming both: no
-order of the folders decides a grade.  In one folder a student with two notebooks of an assignment gets the
-better score.
+One student's data never stops the gradebook of the class: that student's assignment in two report folders
+(``reports/05late reports/05``, or a notebook of one student claiming, in its metadata, an assignment graded in
+another folder) or a summary row that is not a number is that student's 0 for that assignment, with status
+``refused`` and a note naming the folders (on stderr too): no order of the folders decides a grade.  The
+instructor's own mistakes (written marks of an assignment whose reports are not among the folders, the same
+marks twice, a folder without ``summary.csv``, bad options) stay errors.  In one folder a student with two
+notebooks of an assignment gets the better score.
+
+Names are the raw user names everywhere (``'bea`` and ``bea`` are two students); a cell is quoted only when
+written (:func:`~lab.teaching.untrusted.csv_cell`) and read back through :func:`~lab.teaching.untrusted.csv_value`.
 
 Formats:
 
-* ``csv``: ``student``, then per assignment its points, ``<id> late days`` and ``<id> status`` (``submitted``,
-  or ``missing`` where no notebook was graded: none handed in, or ``collect`` refused it), then ``total`` and
-  ``max``; the first row, ``(max)`` (no user name has parentheses, so a student called max keeps a row of their
-  own), holds the points possible of each points column (under ``total`` and ``max`` the sum);
+* ``csv``: ``student``, then per assignment its points, ``<id> late days``, ``<id> status`` (``submitted``;
+  ``missing`` where no notebook was graded: none handed in, or ``collect`` refused it; ``refused`` where the
+  student's reports of it cannot count, see above) and ``<id> note`` (why refused), then ``total`` and ``max``;
+  the first row, ``(max)`` (no user name has parentheses, so a student called max keeps a row of their own), holds
+  the points possible of each points column (under ``total`` and ``max`` the sum);
 * ``canvas``: Canvas's gradebook import layout: ``Student, ID, SIS User ID, SIS Login ID, Section``, a
   column per assignment (named by its title: Canvas creates the assignment; rename a header to
   ``Title (123)`` to fill an existing one), a second row ``Points Possible``; students are matched by
@@ -45,8 +53,8 @@ from .grading import write_atomic
 from .untrusted import clean, csv_cell
 from .written import read_written
 
-__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "add_late_options", "gradebook", "late_policy", "main",
-           "one_per_student", "read_roster", "summary_rows"]
+__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "LatePolicy", "add_late_options", "conflict_note", "gradebook",
+           "late_policy", "main", "one_per_student", "read_roster", "summary_rows"]
 
 FORMATS = ("csv", "canvas", "moodle")
 #: The first row of the ``csv`` layout, the points possible: not a user name (a student may be called max).
@@ -95,26 +103,45 @@ def late_policy(args):
 
 
 def summary_rows(folder):
-    """``(student, row)`` of each row of ``folder/summary.csv`` (the user name without the quote that keeps a
-    spreadsheet from reading it as a formula)."""
-    return [(row["student"].lstrip("'"), row) for row in read_summary(Path(folder) / "summary.csv")]
+    """``(student, row)`` of each row of ``folder/summary.csv``: the user name as it is (the quote that keeps a
+    spreadsheet from reading a cell as a formula is removed from every cell by
+    :func:`~lab.teaching.batch.read_summary`)."""
+    return [(row.get("student", ""), row) for row in read_summary(Path(folder) / "summary.csv")]
 
 
-def one_per_student(items, error=None):
-    """``{(student, assignment): item}`` of ``(folder, student, assignment, score, item)``: of several items of one
-    folder (a student who handed in two notebooks) the better score counts; one student's assignment in two
-    folders raises ``error`` (default :class:`GradebookError`) naming both, since the order of the folders must
-    not decide a grade."""
-    found = {}
+def one_per_student(items):
+    """``(chosen, conflicts)`` of ``(folder, student, assignment, score, item)``.
+
+    ``chosen``: ``{(student, assignment): item}``; of several items of one folder (a student who handed in two
+    notebooks) the better score counts.  ``conflicts``: ``{(student, assignment): [folder, folder, …]}`` of a
+    student's assignment in two or more folders (in the order given), left out of ``chosen``: the order of the
+    folders must not decide a grade, so that student's assignment counts nothing until only one folder is passed
+    (the caller says so, for that student alone)."""
+    found, where = {}, {}
     for folder, student, aid, score, item in items:
+        folders = where.setdefault((student, aid), [])
+        if not any(Path(f).resolve() == Path(folder).resolve() for f in folders):
+            folders.append(folder)
         old = found.get((student, aid))
-        if old is not None and Path(old[0]).resolve() != Path(folder).resolve():
-            raise (error or GradebookError)(
-                f"{clean(student, 80)} has assignment {clean(aid, 80)} in two report folders, {old[0]} and {folder}: "
-                "pass only the one that counts")
-        if old is None or score > old[1]:
-            found[student, aid] = (folder, score, item)
-    return {key: item for key, (_folder, _score, item) in found.items()}
+        if old is None or score > old[0]:
+            found[student, aid] = (score, item)
+    conflicts = {key: folders for key, folders in where.items() if len(folders) > 1}
+    return {key: item for key, (_score, item) in found.items() if key not in conflicts}, conflicts
+
+
+def conflict_note(aid, folders):
+    """What a student's assignment in several report folders means (a gradebook note)."""
+    return _("{assignment} is in two report folders, {first} and {second}: 0 points here; pass only the folder that "
+             "counts").format(assignment=clean(aid, 80, keep_newlines=False), first=folders[0],
+                              second=", ".join(map(str, folders[1:])))
+
+
+def _number(text):
+    """The number in a summary cell ("" is 0); ValueError for anything else, NaN and infinities too."""
+    value = float(text or 0)
+    if not math.isfinite(value):
+        raise ValueError(text)
+    return value
 
 
 def read_roster(path):
@@ -134,7 +161,8 @@ def read_roster(path):
 
 
 def _assignments(folders):
-    """``{assignment id: {"max": points, "rows": {student: row}}}`` from the summaries."""
+    """``{assignment id: {"max": points, "rows": {student: row}, "notes": {student: note}}}`` from the summaries;
+    a student with a note scores 0 in that assignment (see the module docstring)."""
     found, items = {}, []
     for folder in folders:
         path = Path(folder) / "summary.csv"
@@ -144,18 +172,25 @@ def _assignments(folders):
             aid = row.get("assignment") or ""
             if not aid:
                 continue
-            entry = found.setdefault(aid, {"max": 0.0, "rows": {}})
+            entry = found.setdefault(aid, {"max": 0.0, "rows": {}, "notes": {}})
             try:
-                top, score = float(row.get("max_score") or 0), float(row.get("score") or 0)
+                top, score = _number(row.get("max_score")), _number(row.get("score"))
+                _number(row.get("late_seconds"))
             except ValueError:
-                raise GradebookError(f"{path}: score {row.get('score')!r} or max_score {row.get('max_score')!r} of "
-                                     f"{clean(student, 80)} is not a number") from None
+                entry["notes"][student] = _(
+                    "score {score}, max_score {max} or late_seconds {late} in {file} is not a number: 0 points "
+                    "here").format(**{k: repr(clean(row.get(c) or "", 80, keep_newlines=False)) for k, c in
+                                      (("score", "score"), ("max", "max_score"), ("late", "late_seconds"))}, file=path)
+                continue
             entry["max"] = max(entry["max"], top)
             items.append((folder, student, aid, score, row))
     if not found:
         raise GradebookError("the summaries name no assignment")
-    for (student, aid), row in one_per_student(items).items():
+    chosen, conflicts = one_per_student(items)
+    for (student, aid), row in chosen.items():
         found[aid]["rows"][student] = row
+    for (student, aid), where in conflicts.items():
+        found[aid]["notes"].setdefault(student, conflict_note(aid, where))
     return found
 
 
@@ -179,26 +214,29 @@ def _marks(written, found):
 
 def gradebook(folders, *, late=None, written=(), roster=None):
     """``(assignment ids, {aid: max}, rows)``: per student ``{"student", aid: points, aid + " late days",
-    aid + " status", "total"}``."""
+    aid + " status", aid + " note", "total"}``."""
     late = late or LatePolicy()
     found = _assignments(folders)
     marks = _marks(written, found)
     maxima = {aid: entry["max"] for aid, entry in found.items()}
     for (_student, aid), (_got, top) in marks.items():
         maxima[aid] = found[aid]["max"] + top
-    students = sorted({s for entry in found.values() for s in entry["rows"]} | {s for s, _aid in marks}
-                      | set(roster or ()))
+    students = sorted({s for entry in found.values() for s in (*entry["rows"], *entry["notes"])}
+                      | {s for s, _aid in marks} | set(roster or ()))
     rows = []
     for student in students:
         row = {"student": student}
         total = 0.0
         for aid, entry in sorted(found.items()):
-            summary = entry["rows"].get(student, {})
+            note = entry["notes"].get(student, "")
+            summary = {} if note else entry["rows"].get(student, {})  # a note: 0 points, written ones too
             auto = float(summary.get("score") or 0)
-            extra = marks.get((student, aid), (0.0, 0.0))[0]
+            extra = 0.0 if note else marks.get((student, aid), (0.0, 0.0))[0]
             points = late.apply(auto + extra, summary.get("late_seconds"))
             row[aid], row[f"{aid} late days"] = points, late.days(summary.get("late_seconds"))
-            row[f"{aid} status"] = "submitted" if summary.get("notebook") else "missing"  # batch: "" = no notebook
+            # batch: "" = no notebook
+            row[f"{aid} status"] = "refused" if note else "submitted" if summary.get("notebook") else "missing"
+            row[f"{aid} note"] = note
             total += points
         row["total"] = round(total, 2)
         rows.append(row)
@@ -211,13 +249,13 @@ def _write(fmt, ids, maxima, rows, roster):
     w = csv.writer(buf)
     max_total = round(sum(maxima.values()), 2)
     if fmt == "csv":
-        columns = [c for aid in ids for c in (aid, f"{aid} late days", f"{aid} status")]
-        w.writerow(["student"] + columns + ["total", "max"])
-        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "", "")] + [max_total, max_total])
+        columns = [c for aid in ids for c in (aid, f"{aid} late days", f"{aid} status", f"{aid} note")]
+        w.writerow([csv_cell(c) for c in ["student"] + columns + ["total", "max"]])
+        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "", "", "")] + [max_total, max_total])
         for r in rows:
-            w.writerow([csv_cell(r["student"])] + [r[c] for c in columns] + [r["total"], max_total])
+            w.writerow([csv_cell(r["student"])] + [csv_cell(r[c]) for c in columns] + [r["total"], max_total])
     elif fmt == "canvas":
-        w.writerow(["Student", "ID", "SIS User ID", "SIS Login ID", "Section"] + list(ids))
+        w.writerow(["Student", "ID", "SIS User ID", "SIS Login ID", "Section"] + [csv_cell(aid) for aid in ids])
         w.writerow(["Points Possible", "", "", "", ""] + [maxima[aid] for aid in ids])
         for r in rows:
             info = roster.get(r["student"], {})
@@ -225,7 +263,7 @@ def _write(fmt, ids, maxima, rows, roster):
                         csv_cell(info.get("sis user id", "")), csv_cell(r["student"]), csv_cell(info.get("section", ""))]
                        + [r[aid] for aid in ids])
     else:
-        w.writerow(["Username", "ID number", "Email address"] + list(ids))
+        w.writerow(["Username", "ID number", "Email address"] + [csv_cell(aid) for aid in ids])
         for r in rows:
             info = roster.get(r["student"], {})
             w.writerow([csv_cell(r["student"]), csv_cell(info.get("id number", "")), csv_cell(info.get("email", ""))]
@@ -253,6 +291,11 @@ def main(argv=None):
     except (GradebookError, ValueError, OSError) as exc:
         print(f"curvature-lab gradebook: error: {exc}", file=sys.stderr)
         return 2
+    for r in rows:  # a student's 0 with its reason, whatever the format (Canvas and Moodle have no note column)
+        for aid in ids:
+            if r[f"{aid} note"]:
+                print(f"curvature-lab gradebook: {clean(r['student'], 100, keep_newlines=False)}: {r[f'{aid} note']}",
+                      file=sys.stderr)
     print(_("{students} students, {assignments} assignments -> {file}").format(
         students=len(rows), assignments=len(ids), file=args.output), file=sys.stderr)
     return 0

@@ -32,10 +32,10 @@ import zipfile
 from pathlib import Path
 
 from ..i18n import _
-from .assignments import DEFAULT_FOLDER, AssignmentError, load
+from .assignments import DEFAULT_FOLDER, AssignmentError, load, reads_cad
 from .grading import VISIBILITY
 
-__all__ = ["REAL_PARTS", "build", "main", "setup_script"]
+__all__ = ["build", "main", "setup_script"]
 
 ROOT = Path(__file__).resolve().parents[2]
 #: What of the repository the autograder installs (the library and what pip needs to build it).
@@ -52,14 +52,11 @@ python3 -m venv /autograder/venv
 /autograder/venv/bin/python -m pip install -q {package}
 """
 
-#: An assignment on real parts (it reads CAD files) needs OpenCASCADE (the extra ``cad``) and its sample parts
-#: (Debian's ``occt-misc``) in the autograder's image: found by what its notebook calls.
-REAL_PARTS = ("lab.read(", "models.", "occ_curvature")
-
-
 def setup_script(notebook_text):
-    """``setup.sh`` for an assignment whose instructor's notebook has the source ``notebook_text``."""
-    if any(call in notebook_text for call in REAL_PARTS):
+    """``setup.sh`` for an assignment whose instructor's notebook has the source ``notebook_text``: one on real parts
+    (:func:`lab.teaching.assignments.reads_cad`) needs OpenCASCADE (the extra ``cad``) and its sample parts (Debian's
+    ``occt-misc``) in the autograder's image."""
+    if reads_cad(notebook_text):
         return SETUP.format(apt=" occt-misc", package='"/autograder/source/curvature-lab[cad]"')
     return SETUP.format(apt="", package="/autograder/source/curvature-lab")
 

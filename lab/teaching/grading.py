@@ -21,6 +21,7 @@ submission is cleaned before it is shown (:func:`lab.teaching.untrusted.clean`).
 """
 
 import hashlib
+import importlib.metadata
 import json
 import math
 import os
@@ -34,7 +35,6 @@ import time
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
-import nbformat
 import numpy as np
 
 from .. import i18n
@@ -46,10 +46,10 @@ from .sandbox import DISK, MEMORY, Sandbox, prepare_package
 from .spec import build_report, judge_outcome
 from .tasks import TASKS
 from .tasks_curvature import ANALYTIC_BLOCK
-from .untrusted import UntrustedError, clean, read_file
+from .untrusted import UntrustedError, clean, definitions, read_file, read_notebook
 
-__all__ = ["MAX_NOTEBOOK", "VISIBILITY", "WITHHELD", "GradeResult", "Prepared", "grade_notebook", "read_submission",
-           "submission_language", "write_atomic"]
+__all__ = ["CAD_DISTRIBUTIONS", "MAX_NOTEBOOK", "VISIBILITY", "WITHHELD", "GradeResult", "Prepared", "grade_notebook",
+           "hidden_modules", "read_submission", "submission_language", "write_atomic"]
 
 #: Kinds of cell errors that come from the withheld reference implementations, not from the student.
 WITHHELD = ("withheld", "follows")
@@ -120,19 +120,22 @@ class GradeResult:
         return text
 
     def _text(self):
-        head = _("{notebook}: {score} / {max} points").format(notebook=clean(self.notebook or self.student, 300),
+        # the first line is one line: a newline in a file name never forges a line of the report; a message's own
+        # lines are indented below it (_under)
+        head = _("{notebook}: {score} / {max} points").format(notebook=clean(self.notebook or self.student, 300,
+                                                                             keep_newlines=False),
                                                                score=decimal(f"{self.score:g}"),
                                                                max=decimal(f"{self.max_score:g}"))
         if self.assignment:
-            head += "  " + _("(assignment {id}, seed {seed})").format(id=clean(self.assignment, 100),
-                                                                     seed="–" if self.seed is None else self.seed)
+            head += "  " + _("(assignment {id}, seed {seed})").format(
+                id=clean(self.assignment, 100, keep_newlines=False), seed="–" if self.seed is None else self.seed)
         lines = [head]
         if self.error:
-            lines.append("  " + _("error: {message}").format(message=clean(self.error)))
+            lines.append("  " + _("error: {message}").format(message=_under(clean(self.error))))
         if not self.tasks and not self.error:
             lines.append("  " + _("no graded tasks: this notebook has nothing to pass (0 / 0 is not a pass)"))
         for t in self.tasks:
-            lines.append(f"- {t['task']} ({clean(t['object'], 100)}): "
+            lines.append(f"- {t['task']} ({clean(t['object'], 100, keep_newlines=False)}): "
                          + decimal(f"{_points(t['points'] * t['score']):g} / {t['points']:g}"))
             lines.extend("    " + line for line in clean(t["report"], MAX_REPORT).splitlines())
         errors = [e for e in self.cell_errors if e.get("kind") not in WITHHELD]
@@ -140,12 +143,13 @@ class GradeResult:
         names = sorted({e["error"].rsplit(": ", 1)[-1].strip() for e in self.cell_errors
                         if e.get("kind") == "withheld" and ": lab." in e.get("error", "")})
         for e in errors:
-            lines.append("  " + _("cell {index}: {error}").format(index=e["cell"], error=clean(e["error"], 500)))
+            lines.append("  " + _("cell {index}: {error}").format(index=e["cell"],
+                                                                  error=_under(clean(e["error"], 500))))
         if withheld:
             lines.append("  " + _("cells {indices}: the library's reference implementation (or a result of it) is "
                                   "withheld in the graded run; no points depend on it").format(indices=", ".join(withheld))
-                         + (" (" + clean(", ".join(names), 300) + ")" if names else ""))
-        lines.extend("  " + _("note: {note}").format(note=clean(n)) for n in self.notes)
+                         + (" (" + clean(", ".join(names), 300, keep_newlines=False) + ")" if names else ""))
+        lines.extend("  " + _("note: {note}").format(note=_under(clean(n))) for n in self.notes)
         if self.missing_protections:
             lines.append("  " + _("sandbox: missing {what}").format(what="; ".join(self.missing_protections)))
         return "\n".join(lines)
@@ -161,6 +165,34 @@ class GradeResult:
                 "output": self.text(), "visibility": visibility, "stdout_visibility": "hidden", "tests": tests}
 
 
+#: Installed distributions that compute curvature on their own (OpenCASCADE's ``BRepLProp_SLProps``, rhino3dm's
+#: ``Surface.CurvatureAt``) and the readers built on them: absent from the sandbox of an assignment that reads no CAD
+#: file, so that none of their functions is a road to an answer.
+CAD_DISTRIBUTIONS = ("cadquery-ocp-novtk", "cadquery-ocp", "cadquery-ocp-proxy", "rhino3dm", "pyiges")
+
+
+def hidden_modules(assignment):
+    """The installed folders and files of :data:`CAD_DISTRIBUTIONS` (their packages, extension modules and bundled
+    shared libraries) that the sandbox of ``assignment`` covers with an empty folder or file; none for an assignment
+    that reads CAD files."""
+    if _assignments.reads_cad(assignment):
+        return ()
+    hidden = set()
+    for name in CAD_DISTRIBUTIONS:
+        try:
+            dist = importlib.metadata.distribution(name)
+        except importlib.metadata.PackageNotFoundError:
+            continue
+        for file in dist.files or ():
+            top = file.parts[0]
+            if top.endswith((".dist-info", ".data")) or top in ("..", "__pycache__"):
+                continue
+            path = Path(dist.locate_file(top)).resolve()
+            if path.exists():
+                hidden.add(str(path))
+    return tuple(sorted(hidden))
+
+
 class Prepared:
     """The cases and answers of one assignment for one run in one language (shared by its submissions).
 
@@ -174,6 +206,7 @@ class Prepared:
         self.cases = [TASKS[name].make_cases(np.random.default_rng(s), True)
                       for (name, _, _), s in zip(assignment.tasks, streams)]
         self.package = Path(package)
+        self.hide = hidden_modules(assignment)
         self._expected = None
         self._lock = threading.Lock()
 
@@ -198,23 +231,20 @@ class Prepared:
                           for (name, obj, _), cases in zip(self.assignment.tasks, self.cases)]}
 
 
+def _under(text):
+    """A message's further lines indented below its first (a report line of its own never starts with them)."""
+    return text.replace("\n", "\n    ")
+
+
 def read_submission(path):
     """``(raw bytes, notebook)`` of a submission: a regular file of at most :data:`MAX_NOTEBOOK` bytes (checked on
-    the open file before anything is parsed), valid nbformat 4.  Raises ``ValueError`` saying what is wrong."""
+    the open file before anything is parsed), valid nbformat 4, read once (:func:`lab.teaching.untrusted.read_notebook`).
+    Raises ``ValueError`` saying what is wrong."""
     try:
         raw = read_file(path, MAX_NOTEBOOK)
     except UntrustedError as exc:
         raise ValueError(str(exc)) from None
-    head = raw[:4096].lstrip()
-    if head and not head.startswith(b"{"):  # nbformat would fail on .get of a list: say what the file is
-        kind = {b"[": "a JSON list", b'"': "a JSON string"}.get(head[:1], "no JSON object")
-        raise ValueError(f"not a notebook: a notebook is a JSON object with 'cells' (nbformat 4); the file holds {kind}")
-    try:
-        nb = nbformat.reads(raw.decode("utf-8"), as_version=4)
-        nbformat.validate(nb)
-    except Exception as exc:  # noqa: BLE001 - any parse or schema failure: a note, not a crash
-        raise ValueError(f"{type(exc).__name__}: {clean(exc, 300)}") from None
-    return raw, nb
+    return raw, read_notebook(raw)
 
 
 def _zero_tasks(found, message):
@@ -227,23 +257,28 @@ def _zero_tasks(found, message):
     return tasks
 
 
-def _defining_cell(nb, name):
-    """The index of the code cell that defines ``name`` (``def name`` / ``class name`` / ``name =``), or None."""
-    pattern = re.compile(rf"^\s*(def|class)\s+{re.escape(name)}\b|^\s*{re.escape(name)}\s*=", re.MULTILINE)
-    found = [i for i, c in enumerate(nb.cells) if c.cell_type == "code" and pattern.search(c.source)]
-    return found[-1] if found else None
+def _defining_cells(nb):
+    """``{name: index of the last code cell that defines it}`` (``def name`` / ``class name`` / ``name =``), built in
+    one pass over the notebook (:func:`lab.teaching.untrusted.definitions`), so that any number of lookups costs the
+    notebook's size once."""
+    found = {}
+    for i, cell in enumerate(nb.cells):
+        if cell.cell_type == "code":
+            for name in definitions(cell.source):
+                found[name] = i
+    return found
 
 
-def _failed_definition(nb, name, cell_errors):
+def _failed_definition(defined, name, cell_errors):
     """``(index, error)`` of the cell that defines ``name`` when that cell failed (not a withheld call), else None."""
-    index = _defining_cell(nb, name)
+    index = defined.get(name)
     error = next((e for e in cell_errors if e.get("cell") == index), None) if index is not None else None
     return None if error is None or error.get("kind") in WITHHELD else (index, error)
 
 
-def _undefined_message(nb, obj, cell_errors):
+def _undefined_message(defined, obj, cell_errors):
     """Why ``obj`` was never defined, when the cell that defines it failed (a SyntaxError, a dead kernel …)."""
-    if (failed := _failed_definition(nb, obj, cell_errors)) is None:
+    if (failed := _failed_definition(defined, obj, cell_errors)) is None:
         return None
     index, error = failed
     if error["kind"] == "syntax":
@@ -259,12 +294,12 @@ def _undefined_message(nb, obj, cell_errors):
 _NAME_ERROR = re.compile(r"NameError: name '(\w+)' is not defined")
 
 
-def _explain_name_errors(nb, cell_errors):
+def _explain_name_errors(defined, cell_errors):
     """A NameError of a cell whose name an earlier cell should have defined but failed (stopped, raised): say so,
     instead of a bare "name 'mine' is not defined" that reads as the student's typo."""
     for e in cell_errors:
         found = _NAME_ERROR.search(e.get("error", "")) if e.get("kind") == "error" else None
-        failed = _failed_definition(nb, found.group(1), cell_errors) if found else None
+        failed = _failed_definition(defined, found.group(1), cell_errors) if found else None
         if failed is not None and isinstance(e.get("cell"), int) and failed[0] < e["cell"]:
             e["error"] = _("{error} (cell {cell}, which defines {name}, did not finish: {why})").format(
                 error=e["error"], cell=failed[0], name=found.group(1), why=clean(failed[1]["error"], 200))
@@ -275,13 +310,14 @@ def _grade_in_sandbox(raw, prepared, result, *, timeout, check_timeout, total_ti
     return (outcomes per task, notes, whether the results are invalid)."""
     with tempfile.TemporaryDirectory(prefix="lab-grade-") as tmp:
         box = Sandbox(prepared.package, Path(tmp) / "work", memory=memory, disk=disk, use_bwrap=use_sandbox,
-                      lang=prepared.lang)
+                      lang=prepared.lang, hide=prepared.hide)
         with box.workspace() as work:
             (work / "out").mkdir()
             inside = box.inside
             (work / "submission.ipynb").write_bytes(raw)
             spec = prepared.spec(inside / "submission.ipynb", inside / "out", timeout, check_timeout)
             (work / "spec.json").write_text(json.dumps(spec))
+            box.hand_over()
             ran = {}
 
             def run():
@@ -399,12 +435,13 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
             if own is not None:
                 shutil.rmtree(own, ignore_errors=True)
         result.notes += notes
-        _explain_name_errors(nb, result.cell_errors)
+        defined = _defining_cells(nb)
+        _explain_name_errors(defined, result.cell_errors)
         if invalid:
             result.tasks = _zero_tasks(found, notes[-1])
         for k, (name, obj, points) in enumerate(found.tasks if not invalid else ()):
             task = TASKS[name]
-            why = _undefined_message(nb, obj, result.cell_errors)
+            why = _undefined_message(defined, obj, result.cell_errors)
             judged = []
             for i, case in enumerate(prepared.cases[k]):
                 out = outcomes[k].get(i, {"status": "not run", "message": _("the graded run ended before this case")})

@@ -2,8 +2,9 @@
 
 Runs outside the sandbox, between the grader and ``bwrap`` (or the child itself where bubblewrap is
 missing): it dies with the grader (``PR_SET_PDEATHSIG``), sets the per-process resource limits, joins the
-submission's control groups (:mod:`lab.teaching.cgroups`) and then becomes the command (``exec``), so
-every process the submission starts inherits all of them.  A launcher instead of ``preexec_fn``: the
+submission's control groups (:mod:`lab.teaching.cgroups`), joins a fresh, empty session keyring (nothing the
+grader's session holds is inherited; the sandbox's syscall filter then denies every keyring call) and then
+becomes the command (``exec``), so every process the submission starts inherits all of them.  A launcher instead of ``preexec_fn``: the
 grader forks from several threads at once, where ``preexec_fn`` is not safe.
 """
 
@@ -36,6 +37,11 @@ def main(argv=None):
     for procs in limits.get("cgroups", []):
         with open(procs, "w") as fh:
             fh.write(str(os.getpid()))
+    if limits.get("keyctl") is not None:  # KEYCTL_JOIN_SESSION_KEYRING with no name: a new anonymous keyring
+        libc = ctypes.CDLL(None, use_errno=True)
+        if libc.syscall(limits["keyctl"], 1, None) < 0:
+            print(f"launch: cannot join a fresh session keyring ({os.strerror(ctypes.get_errno())})", file=sys.stderr)
+            return 1
     command = argv[2:]
     os.execvp(command[0], command)
     return 1  # pragma: no cover

@@ -25,8 +25,9 @@ __all__ = ["MARKER", "MAX_VALUES", "BadOutput", "TimeUp", "call", "decode", "dec
 
 #: Text of the error a withheld reference implementation raises (blocked in a check, removed when grading).
 MARKER = "the library's reference implementation is not available here"
-#: Largest number of values a student's result may have (a bigger one is refused, not read).
-MAX_VALUES = 1_000_000
+#: Largest number of values a student's result may have (a bigger one is refused, not read): the largest answer of a
+#: graded case has 768 numbers (the colours of 64 patches), so this leaves room for any wrong shape worth a message.
+MAX_VALUES = 20_000
 
 _LAB_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _used = []  # names of withheld library functions called during the current case

@@ -9,17 +9,27 @@ that submission's "invalid results" (0 points and a note), never into an excepti
 Files: ``task-K.jsonl`` (one line per case: ``{"index", "status", "message"?, "value"?, "undefined"?}``;
 the last complete line per index counts, a last line cut off when the sandbox was stopped is ignored) and
 ``cells.json`` (``{"cell_errors": [{"cell", "error", "kind"}], "restarts"}``).
+
+**Bounded work.**  A task file is read one line at a time (:func:`lab.teaching.untrusted.read_lines`), never
+whole; a line longer than :data:`MAX_LINE` (far more numbers than any case asks for) makes its case a "bad output"
+without being parsed, and each value is kept decoded (8 bytes per number, at most
+:data:`lab.teaching.protocol.MAX_VALUES` numbers), only the last one per case.  So the grader holds, per task, at
+most its cases' values and one line: a few MiB per submission whatever the submission wrote.
 """
 
 import os
 
-from .protocol import decode
-from .untrusted import UntrustedError, clean, loads, read_file
+from ..i18n import _
+from .protocol import MAX_VALUES, decode
+from .untrusted import TooLong, UntrustedError, clean, loads, read_file, read_lines
 
 __all__ = ["CELL_KINDS", "MAX_CELL_ERRORS", "OUTCOMES", "InvalidResults", "open_folder", "read_cells", "read_outcomes"]
 
 #: Largest result file of one task read back (bytes), and largest cells.json.
 MAX_TASK_FILE = 64 << 20
+#: Longest line of a task file that is parsed (bytes): one case's result, :data:`MAX_VALUES` numbers as the harness
+#: writes them (at most 25 bytes each) and its message.
+MAX_LINE = 32 * MAX_VALUES + (64 << 10)
 MAX_CELLS_FILE = 1 << 20
 #: Cell errors kept in a report.
 MAX_CELL_ERRORS = 200
@@ -73,32 +83,51 @@ def _outcome(item, n, where):
         raise InvalidResults(f"{where}: malformed field 'undefined'")
     out = {"index": index, "status": status, "message": clean(message)}
     if "value" in item:
-        try:
-            decode(item["value"])  # what the harness encodes always decodes; anything else was forged
+        try:  # what the harness encodes always decodes; anything else was forged.  Kept decoded: 8 bytes a number
+            out["value"] = decode(item["value"])
         except (ValueError, TypeError, OverflowError) as exc:
             raise InvalidResults(f"{where}: the value is not what the harness writes ({clean(exc, 100)})") from None
-        out["value"] = item["value"]
     if item.get("undefined"):
         out["undefined"] = True
     return out
 
 
 def read_outcomes(folder_fd, name, n):
-    """The outcome of each case from ``name`` (``task-K.jsonl``) in the output folder: ``{index: outcome}``."""
+    """The outcome of each case from ``name`` (``task-K.jsonl``) in the output folder: ``{index: outcome}``, values
+    decoded (see the module docstring for the bounds)."""
     if not _exists(name, folder_fd):
         return {}
-    text = _text(name, folder_fd, MAX_TASK_FILE)
-    lines = text.split("\n")
     found = {}
-    for number, line in enumerate(lines[:-1], 1):  # the last piece has no newline: cut off or empty
-        if line.strip():
-            try:
-                item = loads(line, constants=True)
-            except UntrustedError as exc:
-                raise InvalidResults(f"{name}, line {number}: {exc}") from None
-            out = _outcome(item, n, f"{name}, line {number}")
+    try:
+        for number, line in read_lines(name, MAX_TASK_FILE, MAX_LINE, dir_fd=folder_fd):
+            if isinstance(line, TooLong):
+                out = _too_long(line, n, f"{name}, line {number}")
+            elif not line.strip():
+                continue
+            else:
+                try:
+                    item = loads(line, constants=True)
+                except UntrustedError as exc:
+                    raise InvalidResults(f"{name}, line {number}: {exc}") from None
+                out = _outcome(item, n, f"{name}, line {number}")
             found[out["index"]] = out
+    except InvalidResults:
+        raise
+    except UntrustedError as exc:
+        raise InvalidResults(str(exc)) from None
     return found
+
+
+def _too_long(head, n, where):
+    """A line over :data:`MAX_LINE` bytes, from its first bytes: the harness writes ``{"index": i, …`` first, so its
+    case is known; that case is a bad output.  Anything else was forged."""
+    prefix = b'{"index": '
+    digits = head[len(prefix):].split(b",", 1)[0] if head.startswith(prefix) else b""
+    if not digits.isdigit() or not 0 <= int(digits) < n:
+        raise InvalidResults(f"{where}: a line of more than {MAX_LINE} bytes that is not a case's result")
+    return {"index": int(digits), "status": "bad output", "message": _(
+        "a result with far more numbers than the task asks for (more than {limit} are not read)").format(
+            limit=MAX_VALUES)}
 
 
 def read_cells(folder_fd, name="cells.json"):

@@ -10,7 +10,6 @@ answers outside (:mod:`lab.teaching.grading`).
 import contextlib
 import importlib
 import math
-import re
 import secrets
 import sys
 
@@ -18,6 +17,7 @@ import numpy as np
 
 from .protocol import MARKER, decode_args, encode_args, outcome
 from .spec import build_report, judge_outcome
+from .untrusted import defines
 
 __all__ = ["DEFAULT_TIMEOUT", "blocked", "latest_syntax_error", "resolve", "run_task"]
 
@@ -79,11 +79,10 @@ def latest_syntax_error(obj):
     shell = getattr(sys.modules.get("IPython"), "get_ipython", lambda: None)()
     if not name or shell is None:
         return ""
-    pattern = re.compile(rf"^\s*(def|class)\s+{re.escape(name)}\b|^\s*{re.escape(name)}\s*=", re.MULTILINE)
     history = list(shell.user_ns.get("In", []))[:-1]  # the last input is the cell running this check
     for k in range(len(history) - 1, 0, -1):
         source = history[k]
-        if not pattern.search(source):
+        if not defines(source, name):
             continue
         try:
             compile(shell.transform_cell(source), f"In [{k}]", "exec")

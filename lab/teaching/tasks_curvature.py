@@ -33,7 +33,11 @@ CURVATURE_BLOCK = ANALYTIC_BLOCK + tuple(f"lab.geometry.curvature.{name}" for na
     "from_derivatives", "fundamental_forms", "principal_curvatures", "unit_normal", "shape_operator")) + (
     "lab.geometry.directions.from_derivatives", "lab.geometry.directions.eigen") + tuple(
     f"lab.model.surface.Surface.{name}" for name in ("normal", "fundamental_forms", "curvature", "curvature_grid",
-                                                      "_curvature", "_directions"))
+                                                      "_curvature", "_directions")) + (
+    # a CAD kernel's curvature of a part written from the case's net, the normal curvature across an edge, the
+    # traceless part of the Weingarten map: roads to the same numbers (tests/test_roads.py finds them)
+    "lab.interrogation.cad.kernel.occ_curvature", "lab.interrogation.continuity.measures",
+    "lab.interrogation.umbilics.traceless")
 #: What computes derivative nets or derivatives of a Bézier patch (the corner stencils too).
 BEZIER_BLOCK = tuple(f"lab.geometry.bezier.{name}" for name in (
     "derivative_net", "derivatives", "corner_derivatives", "_corner_values", "_corner_stencil", "_both_corners",

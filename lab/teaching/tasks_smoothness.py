@@ -22,7 +22,9 @@ SMOOTHNESS_BLOCK = (
     "lab.geometry.directions.from_derivatives", "lab.geometry.directions.eigen",
     "lab.geometry.curvature.shape_operator", "lab.geometry.curvature.from_derivatives",
     "lab.model.surface.Surface.curvature", "lab.model.surface.Surface._directions",
+    "lab.model.surface.Surface.curvature_grid", "lab.model.surface.Surface._curvature",
     "lab.interrogation.umbilics.traceless", "lab.interrogation.geodesics.problem._line_direction",
+    "lab.interrogation.cad.kernel.occ_curvature",
 )
 
 _SUMMARY = N_("a (2, 3) array: the unit directions d1 (of κ1) and d2 (of κ2)")

@@ -23,7 +23,7 @@ from pathlib import Path
 from ..i18n import _, decimal, language, parse_number, using
 from .notebooks import ANSWER_PLACEHOLDER
 from .pages import e, page
-from .untrusted import clean, csv_cell
+from .untrusted import clean, csv_cell, csv_value
 
 __all__ = ["WRITTEN_COLUMNS", "Question", "answers_of", "collect_answers", "questions_of", "read_written"]
 
@@ -130,7 +130,9 @@ def read_written(path):
     """``{(student, assignment): (points, max points)}`` summed over the questions of a marked ``written-*.csv``.
 
     A row whose ``points`` is empty counts 0 (unmarked); points outside ``0 … max_points`` are refused.  Read as a
-    spreadsheet saves it too: a decimal comma (``2,5``), cells separated by semicolons, a byte order mark.
+    spreadsheet saves it too: a decimal comma (``2,5``), cells separated by semicolons, a byte order mark.  Every
+    cell is read back through :func:`~lab.teaching.untrusted.csv_value` (the student ``'bea``, written ``''bea``,
+    is ``'bea``, not ``bea``).
     """
     with open(path, newline="", encoding="utf-8-sig") as fh:
         text = fh.read()
@@ -140,8 +142,9 @@ def read_written(path):
         raise ValueError(f"{path}: no column {', '.join(sorted(missing))} (is it a written-<id>.csv of curvature-lab "
                          "collect?)")
     totals = {}
-    for row in reader:
+    for raw in reader:
         n = reader.line_num
+        row = {k: (v if k is None else csv_value(v)) for k, v in raw.items()}
         if None in row:  # more cells than columns: an unquoted 2,5 in a comma-separated file
             raise ValueError(f"{path}, line {n}: more cells than the header has columns; write 2.5, or \"2,5\" in "
                              "quotes, in a comma-separated file")

@@ -1,7 +1,8 @@
 """Builds the hostile submissions of this folder from exercise 05 (run it after changing an attack).
 
 Each attack is the exercise with the task cell (``class MyBezierPatches``) replaced by the attacker's code
-(a list: further cells after it) and, for some, the notebook's metadata changed.  ``python tests/data/hostile/build.py`` rewrites them.
+(a list: further cells after it) and, for some, the notebook's metadata changed.  ``python tests/data/hostile/build.py
+[NAME …]`` rewrites them (or the named ones).
 Every one must score 0 and change nothing outside its sandbox (tests/test_hostile.py).
 """
 
@@ -476,6 +477,96 @@ class MyBezierPatches(lab.BezierPatches):
 
 raise RuntimeError(f"started {{len(procs)}} busy processes")
 """,
+    # -- the kernel: the host's root, its tunables, keyrings and namespace quota -----------------------------
+    "kernel_escape": """
+import ctypes, os, platform, subprocess, sys
+import lab
+
+libc = ctypes.CDLL(None, use_errno=True)
+NR = {"x86_64": {"add_key": 248, "request_key": 249, "keyctl": 250},
+      "aarch64": {"add_key": 217, "request_key": 218, "keyctl": 219}}[platform.machine()]
+
+
+def why(result):
+    return "ALLOWED" if result >= 0 else os.strerror(ctypes.get_errno())
+
+
+said = [f"uid {os.getuid()}"]
+for name in ("kernel/core_pattern", "kernel/panic", "vm/drop_caches"):
+    try:  # opened for writing and closed at once: writing a pipe to core_pattern would run a command as host root
+        os.close(os.open("/proc/sys/" + name, os.O_WRONLY))
+        said.append(f"{name}: WRITABLE")
+    except OSError as exc:
+        said.append(f"{name}: {exc.strerror}")
+said.append("secret: " + why(libc.syscall(NR["request_key"], b"user", b"lab-hostile-secret", None, 0)))
+said.append("user keyring: " + why(libc.syscall(NR["keyctl"], 0, -4, 0)))  # KEYCTL_GET_KEYRING_ID of @u
+said.append("left key: " + why(libc.syscall(NR["add_key"], b"user", b"lab-hostile-left", b"x", 1, -4)))
+# new namespaces, each kept alive by a descriptor, in a new process (a kernel has threads, and a process with threads
+# cannot enter a new user namespace): a user namespace, then network namespaces in it, which count against the
+# quota of the user outside
+FLOOD = \'\'\'
+import ctypes, os, time
+libc = ctypes.CDLL(None, use_errno=True)
+kept, why_not = [], ""
+if libc.unshare(0x10000000) != 0:  # CLONE_NEWUSER
+    why_not = os.strerror(ctypes.get_errno())
+else:
+    kept.append(os.open("/proc/self/ns/user", os.O_RDONLY))
+    stop = time.time() + 5  # as many as 5 s allow (900 take about 0.5 s unloaded), within the cell's time limit
+    while len(kept) < 900 and time.time() < stop:  # 900: below the 1024 descriptors a process may open
+        if libc.unshare(0x40000000) != 0:  # CLONE_NEWNET
+            why_not = os.strerror(ctypes.get_errno())
+            break
+        kept.append(os.open("/proc/self/ns/net", os.O_RDONLY))
+print(f"{len(kept)}|{why_not}", flush=True)
+os._exit(0)
+\'\'\'
+made, why_not = subprocess.run([sys.executable, "-c", FLOOD], capture_output=True, text=True, timeout=30).stdout.split("|")
+said.append(f"unshare: {why_not.strip() or 'ALLOWED'}")
+said.append(f"namespaces: {made}")
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+
+
+raise RuntimeError("escape: " + "; ".join(said))
+""",
+    # -- the grader's own work on what a submission hands back: a million-line cell, floods -----------------
+    "host_floods": ["""
+import json, os
+import lab
+from IPython import get_ipython
+
+# after the harness's cell, in what it writes, valid: 50 MiB of results with the most numbers a value may have, and
+# one line far over that; and now 255 MiB to the kernel's stderr
+ARRAY = {"shape": [20000], "data": [0.5] * 20000}
+LINE = json.dumps({"index": 0, "status": "ok", "value": {"kind": "patches", "curvature": ARRAY, "colors": ARRAY}})
+
+
+def flood(*args, **kwargs):
+    for folder in ("/grade/out", "out"):
+        path = os.path.join(folder, "task-0.jsonl")
+        if os.path.exists(path) and not os.path.exists(path + ".flooded"):  # once, after the harness's cell
+            open(path + ".flooded", "w").close()
+            with open(path, "a") as fh:
+                for _ in range(50 * 2**20 // len(LINE)):
+                    fh.write(LINE + "\\n")
+                fh.write('{"index": 1, "status": "ok", "value": {"kind": "array", "shape": [2000000], "data": ['
+                         + "0.5, " * 1999999 + "0.5]}}\\n")
+
+
+get_ipython().events.register("post_run_cell", flood)
+chunk = b"e" * (1 << 20)
+for _ in range(255):
+    os.write(2, chunk)
+
+
+class MyBezierPatches(lab.BezierPatches):
+    def visualize_curvature(self, curvature_mode, color_map):
+        pass
+""", "MILLION = 1  # tests/test_hostile.py puts a million newlines after this line (a 2 MB cell, not committed)"],
     "claims_another_assignment": """
 import lab
 
@@ -497,9 +588,12 @@ METADATA = {
 CLAIMS = {"claims_another_assignment": "09_dill_gallery"}
 
 
-def build():
+def build(names=()):
+    """Write the attacks ``names`` (default: all) from the current exercise."""
     base = nbformat.read(str(EXERCISE), as_version=4)
     for name, source in ATTACKS.items():
+        if names and name not in names:
+            continue
         nb = copy.deepcopy(base)
         cell = next(c for c in nb.cells if c.cell_type == "code" and "class MyBezierPatches" in c.source)
         sources = [source] if isinstance(source, str) else source
@@ -516,4 +610,6 @@ def build():
 
 
 if __name__ == "__main__":
-    build()
+    import sys
+
+    build(sys.argv[1:])

@@ -1,0 +1,100 @@
+"""Feedback on made-up report folders (issue 28, items 3 and 6): a page is written only inside a home that is a
+user name's, and one student's report (a name that is a path, an assignment in two folders, a damaged or oversized
+report) is a line on stderr for that student, never an error that stops the pages of the class."""
+
+import json
+
+import pytest
+
+from lab.teaching import feedback
+from tests.report_support import ID, report_folder, result
+
+
+@pytest.fixture
+def homes(tmp_path):
+    homes = tmp_path / "homes"
+    for student in ("ada", "bob"):
+        (homes / student).mkdir(parents=True)
+    return homes
+
+
+def _pages(homes):
+    return sorted(str(p.relative_to(homes)) for p in homes.rglob("*.html"))
+
+
+def test_a_report_whose_student_is_a_path_writes_nothing_outside_the_homes(tmp_path, homes, capsys):
+    """A report of a student ``..`` (a flat file ``...ipynb`` graded before the names were checked) would put
+    its page into the folder above the homes; ``ad\\u200ba`` looks like ada."""
+    reports = report_folder(tmp_path / "reports", result("ada"), result(".."), result("ad\u200ba"),
+                            result("x\ny"), result("bob/../ada"))
+    before = sorted(p.name for p in tmp_path.iterdir())
+    assert feedback.main([str(reports), str(homes)]) == 0
+    assert _pages(homes) == [f"ada/feedback/{ID}.html"]  # ada's page only, and once
+    assert sorted(p.name for p in tmp_path.iterdir()) == before and not (tmp_path / "feedback").exists()
+    err = capsys.readouterr().err
+    assert "curvature-lab feedback: the report of '..' skipped: '..' is a path, not a user name\n" in err
+    assert ("curvature-lab feedback: the report of 'ad\\u200ba' skipped: the user name 'ad\\u200ba' has an "
+            "invisible character (U+200B)\n") in err
+    assert "the user name 'x\\ny' has a line break (U+000A)" in err and "has a path separator (/)" in err
+    assert "feedback for 1 of 5 reports" in err
+
+
+def test_one_assignment_in_two_folders_is_that_students_note(tmp_path, homes, capsys):
+    """Before, the whole command refused before any page; now ada, in both folders, gets no page and a line on
+    stderr saying why, and bob his page."""
+    late = report_folder(tmp_path / "reports" / "05late", result("ada", score=1.0), late={"ada": 3600})
+    on_time = report_folder(tmp_path / "reports" / "05", result("ada"), result("bob"))
+    assert feedback.main([str(late), str(on_time), str(homes)]) == 0
+    assert _pages(homes) == [f"bob/feedback/{ID}.html"]
+    err = capsys.readouterr().err
+    assert (f"curvature-lab feedback: ada has assignment {ID} in two report folders, {late} and {on_time}: no page "
+            "written; pass only the folder that counts\n") in err
+    assert "feedback for 1 of 2 reports" in err
+
+
+def test_a_damaged_or_oversized_report_is_skipped_alone(tmp_path, homes, capsys, monkeypatch):
+    reports = report_folder(tmp_path / "reports", result("ada"), result("bob"), result("cy"), late={"bob": "soon"})
+    (tmp_path / "homes" / "cy").mkdir()
+    (reports / "r2.json").write_text(json.dumps(result("cy").to_dict()) + " " * 5000)  # over the limit below
+    (reports / "broken.json").write_text('{"student": "eve", "tasks": [')
+    (reports / "odd.json").write_text(json.dumps({"student": "fay", "tasks": [], "colour": "blue"}))
+    (reports / "bad_points.json").write_text(json.dumps({**result("gus").to_dict(), "tasks": [{"task": "x"}]}))
+    (tmp_path / "homes" / "gus").mkdir()
+    monkeypatch.setattr(feedback, "MAX_REPORT", 4000)
+    assert feedback.main([str(reports), str(homes)]) == 0
+    assert _pages(homes) == [f"ada/feedback/{ID}.html"]
+    err = capsys.readouterr().err
+    assert f"curvature-lab feedback: {reports / 'broken.json'}: not a report of curvature-lab grade (not a JSON " \
+           "document (JSONDecodeError)): skipped\n" in err
+    assert f"{reports / 'r2.json'}: not a report of curvature-lab grade (r2.json has " in err
+    assert "at most 4000 are read" in err
+    assert f"{reports / 'odd.json'}: not a report of curvature-lab grade (" in err
+    assert "curvature-lab feedback: bob: the page could not be made: ValueError" in err  # late_seconds 'soon'
+    assert f"{reports / 'bad_points.json'}: not a report of curvature-lab grade (KeyError: 'points')" in err
+
+
+def test_a_home_that_is_a_link_or_a_file_is_skipped(tmp_path, homes, capsys):
+    (tmp_path / "elsewhere").mkdir()
+    (homes / "cy").symlink_to(tmp_path / "elsewhere")
+    (homes / "dan").write_text("not a folder")
+    reports = report_folder(tmp_path / "reports", result("ada"), result("cy"), result("dan"), result("eve"))
+    assert feedback.main([str(reports), str(homes)]) == 0
+    assert _pages(homes) == [f"ada/feedback/{ID}.html"] and list((tmp_path / "elsewhere").iterdir()) == []
+    err = capsys.readouterr().err
+    assert all(f"curvature-lab feedback: no home for {s}: skipped\n" in err for s in ("cy", "dan", "eve")), err
+
+
+def test_a_page_name_is_one_file_name(tmp_path, homes):
+    with pytest.raises(feedback.FeedbackError, match="is not a single file name"):
+        feedback.write_into_home(homes / "ada", "../../outside", "<p>x</p>")
+    assert not (tmp_path / "outside.html").exists() and not (homes / "outside.html").exists()
+    path = feedback.write_into_home(homes / "ada", "..", "<p>x</p>")  # "...html": one name, inside
+    assert path == homes / "ada" / "feedback" / "...html" and path.is_file()
+
+
+def test_no_report_at_all_is_still_an_error(tmp_path, homes, capsys):
+    (tmp_path / "reports").mkdir()
+    assert feedback.main([str(tmp_path / "reports"), str(homes)]) == 2
+    assert "no reports (<name>.json written by curvature-lab grade)" in capsys.readouterr().err
+    assert feedback.main([str(tmp_path / "reports"), str(tmp_path / "nowhere")]) == 2
+    assert "is not a folder of homes" in capsys.readouterr().err
