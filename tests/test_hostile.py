@@ -219,7 +219,9 @@ def test_limits_hold_per_submission(graded):
         assert any(f"MiB of its {sandbox.MEMORY >> 20} MiB memory limit" in n for n in result.notes), result.text()
     else:  # no cgroup here: the kernel was killed, or the attack says what survived
         assert any(e["kind"] == "died" for e in result.cell_errors) or held, result.text()
-    assert held is None or int(held.group(3)) * 400 < 2048, held.group(0)  # 2 GiB for all processes together
+    # 2 GiB for all processes together: what the limit promises is about the processes that *held* their 400 MiB
+    # (a process still alive may not have allocated yet under load: "0 of 8 held, 6 still alive" is the limit working)
+    assert held is None or int(held.group(2)) * 400 < 2048, held.group(0)
     for name in ("ada", "eve"):  # a classmate's peak is measured as well, far below the limit
         peak = graded["results"][name].peak_memory
         assert peak is None or 100 << 20 < peak < 1536 << 20, (name, peak)
@@ -279,4 +281,4 @@ def test_a_million_line_cell_and_floods_cost_the_grader_nothing(graded):
     assert result.score == 0 and result.max_score == 10 and not result.error, result.text()
     cases = result.tasks[0]["cases"]
     assert cases[1]["status"] == "failed" and "far more numbers than the task asks for" in cases[1]["got"], cases[1]
-    assert f"more than {results.MAX_VALUES} are not read" in result.tasks[0]["report"]
+    assert f"more than {results.MAX_VALUES} are not read" in cases[1]["got"]
