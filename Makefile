@@ -29,7 +29,7 @@ test: system-deps $(TEST_STAMP)
 # Regenerate exercises/en, exercises/de, solutions/en and solutions/de from the bilingual sources solutions/NN_*.ipynb
 # (refuses to overwrite notebooks edited since they were generated, e.g. a student's exercise).
 exercises: setup
-	$(PY) -m lab.teaching.notebooks
+	$(PY) -m lab.teaching.course.exercises
 
 # Messages: extract the marked strings (Babel), merge them into the German catalogue, compile it.
 # A test fails when a message has no German text or the compiled catalogue is stale.

@@ -23,7 +23,8 @@ from pathlib import Path
 
 import nbformat
 
-from lab.teaching import batch, results
+from lab.teaching.course import grade
+from lab.teaching.grader import sandbox_output
 
 ROOT = Path(__file__).resolve().parent.parent
 ATTACK = ROOT / "tests" / "data" / "hostile" / "host_floods.ipynb"
@@ -67,7 +68,7 @@ def main():
         sampler = threading.Thread(target=sample, daemon=True)
         sampler.start()
         t = time.perf_counter()
-        res = batch.grade_folder(subs, Path(tmp) / "reports", jobs=args.jobs, seed=1, assignment=ASSIGNMENT,
+        res = grade.grade_folder(subs, Path(tmp) / "reports", jobs=args.jobs, seed=1, assignment=ASSIGNMENT,
                                  timeout=60, check_timeout=2, total_timeout=600)
         wall = time.perf_counter() - t
         done.set()
@@ -80,8 +81,8 @@ def main():
     print(f"| resident at the start | {start_rss / mib:.0f} |")
     print(f"| peak while grading | {peak[0] / mib:.0f} |")
     print(f"| peak above the start, per flooding submission | {(peak[0] - start_rss) / mib / args.submissions:.1f} |")
-    if hasattr(results, "MAX_LINE"):
-        print(f"| bound per submission: one line being parsed (MAX_LINE) | {results.MAX_LINE / mib:.1f} |")
+    if hasattr(sandbox_output, "MAX_LINE"):
+        print(f"| bound per submission: one line being parsed (MAX_LINE) | {sandbox_output.MAX_LINE / mib:.1f} |")
     scores = {r.student: f"{r.score:g}/{r.max_score:g}" for r in res}
     print("scores:", ", ".join(f"{k} {v}" for k, v in sorted(scores.items())))
 

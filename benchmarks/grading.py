@@ -33,7 +33,9 @@ from pathlib import Path
 
 import nbformat
 
-from lab.teaching import assignments, batch, grading, results, sandbox
+from lab.teaching.course import files, grade
+from lab.teaching.grader import assignments, notebook, sandbox_output
+from lab.teaching.sandbox import bubblewrap
 
 ROOT = Path(__file__).resolve().parent.parent
 SOLUTION = ROOT / "solutions" / "en" / "05_visualize_curvature.ipynb"
@@ -47,27 +49,27 @@ def phases(use_bwrap):
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
         t = time.perf_counter()
-        prepared = grading.Prepared(found, 1, grading.Prepared.package_for(found, tmp))
+        prepared = notebook.Prepared(found, 1, notebook.Prepared.package_for(found, tmp))
         out["cases + the sandbox's copy of lab"] = time.perf_counter() - t
         t = time.perf_counter()
         expected = prepared.expected()
         out["exact answers (sympy; overlaps the run)"] = time.perf_counter() - t
         work = Path(tmp) / "work"
         (work / "out").mkdir(parents=True)
-        box = sandbox.Sandbox(prepared.package, work, use_bwrap=use_bwrap)
+        box = bubblewrap.Sandbox(prepared.package, work, use_bwrap=use_bwrap)
         (work / "submission.ipynb").write_bytes(SOLUTION.read_bytes())
         spec = prepared.spec(box.inside / "submission.ipynb", box.inside / "out", 60, 10)
         (work / "spec.json").write_text(json.dumps(spec))
         t = time.perf_counter()
-        box.run([sys.executable, "-m", "lab.teaching.child", str(box.inside / "spec.json")], 600)
+        box.run([sys.executable, "-m", "lab.teaching.kernel.graded_run", str(box.inside / "spec.json")], 600)
         out["sandboxed run: kernel, cells, graded calls"] = time.perf_counter() - t
         t = time.perf_counter()
-        task = grading.TASKS[found.tasks[0][0]]
-        fd = results.open_folder(work / "out")
-        found_results = results.read_outcomes(fd, "task-0.jsonl", len(prepared.cases[0]))
+        task = notebook.TASKS[found.tasks[0][0]]
+        fd = sandbox_output.open_folder(work / "out")
+        found_results = sandbox_output.read_outcomes(fd, "task-0.jsonl", len(prepared.cases[0]))
         os.close(fd)
         for i, case in enumerate(prepared.cases[0]):
-            grading.judge_outcome(task, case, found_results[i], lambda i=i: expected[0][i])
+            notebook.judge_outcome(task, case, found_results[i], lambda i=i: expected[0][i])
         out["reading and judging the results"] = time.perf_counter() - t
     return out
 
@@ -76,7 +78,7 @@ def one_notebook(use_bwrap, repeat):
     times = []
     for _ in range(repeat):
         t = time.perf_counter()
-        r = grading.grade_notebook(SOLUTION, sandbox=use_bwrap)
+        r = notebook.grade_notebook(SOLUTION, sandbox=use_bwrap)
         times.append(time.perf_counter() - t)
         assert r.score == r.max_score, r.text()
     return statistics.median(times)
@@ -89,7 +91,7 @@ def folder(n, jobs):
             (subs / f"s{k:02d}").mkdir(parents=True)
             shutil.copy(SOLUTION if k % 2 == 0 else EXERCISE, subs / f"s{k:02d}" / SOLUTION.name)
         t = time.perf_counter()
-        graded = batch.grade_folder(subs, Path(tmp) / "reports", jobs=jobs)
+        graded = grade.grade_folder(subs, Path(tmp) / "reports", jobs=jobs)
         wall = time.perf_counter() - t
     assert [r.score for r in graded] == [10 if k % 2 == 0 else 0 for k in range(n)]
     return wall
@@ -110,7 +112,7 @@ def whole_class(n):
         subs = Path(tmp) / "subs"
         expected = mixed_class(subs, n)
         load0, t, cpu0 = os.getloadavg()[0], time.perf_counter(), machine_busy()
-        graded = batch.grade_folder(subs, Path(tmp) / "reports", jobs=2)
+        graded = grade.grade_folder(subs, Path(tmp) / "reports", jobs=2)
         wall, cpu = time.perf_counter() - t, machine_busy() - cpu0
         assert [r.score for r in graded] == expected, [r.score for r in graded]
         assert {r.lang for r in graded} == {"en", "de"}
@@ -144,7 +146,7 @@ def crash_and_resume(n):
         wall = time.perf_counter() - t
         after = {p.name: p.stat().st_mtime_ns for p in out.glob("s*.json")}
         kept = sum(after.get(name) == mtime for name, mtime in before.items())
-        rows = batch.read_summary(out / "summary.csv")
+        rows = files.read_summary(out / "summary.csv")
         assert [float(r["score"]) for r in sorted(rows, key=lambda r: r["student"])] == expected
     return len(before), kept, len(after) - kept, wall
 
@@ -161,7 +163,7 @@ def fairness():
             for k, path in enumerate(others):
                 (subs / f"attacker{k}").mkdir()
                 shutil.copy(path, subs / f"attacker{k}" / SOLUTION.name)
-            graded = {r.student: r for r in batch.grade_folder(subs, Path(tmp) / "reports", jobs=2,
+            graded = {r.student: r for r in grade.grade_folder(subs, Path(tmp) / "reports", jobs=2,
                                                                  assignment=EXERCISE)}
             assert graded["classmate"].score == 10, graded["classmate"].text()
             out[label] = graded["classmate"].seconds
@@ -176,7 +178,7 @@ def main(argv=None):
     parser.add_argument("--only", default="phases,one,folder,class,crash,fair")
     args = parser.parse_args(argv)
     only = set(args.only.split(","))
-    bw = sandbox.bwrap_works()
+    bw = bubblewrap.bwrap_works()
     print(f"load average {os.getloadavg()[0]:.2f}, {os.cpu_count()} cores, bubblewrap {'works' if bw else 'unavailable'}")
     if "phases" in only:
         print("\nwhere the time of one graded notebook goes (05, reference solution, bubblewrap):")

@@ -25,10 +25,26 @@ The short module names of the public API (``lab.curvature``, ``lab.colormaps``, 
 import importlib
 import importlib.abc
 import importlib.util
+import os
 import sys
 import warnings
 
 __version__ = "0.1.0"
+
+_LIBRARY = os.path.dirname(os.path.abspath(__file__))
+
+
+def library():
+    """The folder of the ``lab`` package: what counts as library code (the grading sandbox's copy of it, frames of
+    a traceback that are not the student's).  The one place that knows where the package lies: a module that moves
+    inside the package does not change it."""
+    return _LIBRARY
+
+
+def repository():
+    """The folder that holds the ``lab`` package: a course repository (``exercises/``, ``solutions/``,
+    ``pyproject.toml``) when the lab runs from a checkout."""
+    return os.path.dirname(_LIBRARY)
 
 
 def _formatwarning(message, category, filename, lineno, line=None, *, _plain=warnings.formatwarning):
@@ -68,8 +84,8 @@ MODULES = {
     "figures": "lab.view.figures",
     "widgets": "lab.view.explorers",
     "check": "lab.teaching.check",
-    "grading": "lab.teaching.grading",
-    "notebooks": "lab.teaching.notebooks",
+    "grading": "lab.teaching.grader.notebook",
+    "notebooks": "lab.teaching.course.exercises",
 }
 
 #: Public names -> the module that defines them.
@@ -98,11 +114,11 @@ _NAMES = {
     "lab.interrogation.cad.kernel": ("occ_curvature",),
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
     "lab.i18n": ("set_language", "language"),
-    "lab.teaching.unfinished": ("exercise_mode",),
+    "lab.teaching.kernel.exercise_mode": ("exercise_mode",),
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}
 
-__all__ = sorted(MODULES) + sorted(_ATTRIBUTES)  # noqa: PLE0605 - built from the lazy-import table so the two cannot drift
+__all__ = sorted(MODULES) + sorted(_ATTRIBUTES) + ["library", "repository"]  # noqa: PLE0605 - built from the lazy-import table so the two cannot drift
 
 
 def __getattr__(name):

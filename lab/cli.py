@@ -1,149 +1,21 @@
-"""The ``curvature-lab`` command line.
+"""The ``curvature-lab`` command line: it parses and dispatches, each verb's work is elsewhere.
 
-``curvature-lab render``: colour a named surface (or a part read from a file, ``--file``) by curvature and write a
-picture (PNG), an interactive scene (HTML), a mesh (VTK/VTP, geomview OFF) or
-coloured Bézier patches for geomview (BEZ).
+``curvature-lab render`` (:mod:`lab.view.render_command`): colour a named surface (or a part read from a file,
+``--file``) by curvature and write a picture (PNG), an interactive scene (HTML), a mesh (VTK/VTP, geomview OFF) or
+coloured Bézier patches for geomview (BEZ).  The course's verbs (``exercises``, ``release``, ``collect``, ``grade``,
+``feedback``, ``gradebook``, ``gradescope``) are ``lab.teaching.course.<verb>``.
 """
 
 import argparse
 import math
 import re
 import sys
-import time
-import warnings
-from pathlib import Path
-
-from tqdm import tqdm
 
 from .geometry import colormaps
 from .geometry.curvature import CurvatureMode
 from .i18n import N_, _
 from .model import surfaces
-
-OUTPUT_SUFFIXES = (".png", ".html", ".off", ".vtk", ".vtp", ".bez")
-
-
-def _render(args, parser):
-    out = Path(args.output)
-    if out.suffix.lower() not in OUTPUT_SUFFIXES:
-        parser.error(f"unknown output type {out.suffix or '(none)'!r} for {out}; expected one of {', '.join(OUTPUT_SUFFIXES)}")
-    if args.depth < 0 or args.depth > 8:
-        parser.error(f"--depth must be between 0 and 8; got {args.depth}")
-    if out.parent and not out.parent.exists():
-        parser.error(f"output folder {out.parent} does not exist")
-    from . import mesh as _mesh
-    from .view import render
-
-    if out.suffix.lower() == ".png":
-        try:  # the picture's memory, before anything is built
-            render._window(args.window_size)
-        except ValueError as exc:
-            parser.error(f"--window-size: {exc}")
-    options = _map_options(args, parser)
-    if args.draft is not None and args.min_radius is not None:
-        parser.error("--draft and --min-radius are two colourings: give one of them")
-    if args.file and args.model:
-        parser.error("--file and --model both name a part: give one of them")
-    start = time.perf_counter()
-    steps = 3 + args.depth
-    label = _label(args)
-    with tqdm(total=steps, desc=label, unit="step", disable=args.quiet, file=sys.stderr) as bar, \
-            warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        bar.set_postfix_str("reading the file" if args.file or args.model else "building surface")
-        if args.file or args.model:
-            from .interrogation.cad import models, read
-
-            try:
-                surface = read(args.file) if args.file else getattr(models, args.model)()
-            except (OSError, ValueError, ImportError) as exc:
-                parser.error(str(exc))
-        else:
-            surface = surfaces.REGISTRY[args.surface]()
-        bar.update(1)
-        if args.file or args.model:
-            patches = None
-            n = 8 * 2**args.depth * args.resolution + 1
-            bar.update(args.depth)
-            bar.set_postfix_str(f"{len(surface.faces)} faces, each on a {n} x {n} grid")
-            from .interrogation.faces import fill_normals
-
-            mesh = fill_normals(surface.to_mesh(n, n, curvature_mode=args.curvature, color_map=args.color_map,
-                                                **options))
-            for problem in surface.problems:
-                print(f"note: left out {problem}", file=sys.stderr)
-        elif hasattr(surface, "to_bezier_patches"):
-            patches = surface.to_bezier_patches()
-            for level in range(args.depth):
-                bar.set_postfix_str(f"refining to depth {level + 1}: {4 * len(patches)} patches")
-                patches.refine(1)
-                bar.update(1)
-            bar.set_postfix_str(f"curvature at the corners of {len(patches)} patches")
-            patches.visualize_curvature(args.curvature, args.color_map, **options)
-            mesh = _mesh.patches_mesh(patches, resolution=args.resolution)
-        else:
-            patches = None
-            n = 16 * 2**args.depth * args.resolution + 1
-            bar.update(args.depth)
-            bar.set_postfix_str(f"curvature on a {n} x {n} grid")
-            mesh = _mesh.surface_mesh(surface, n, n, args.curvature, args.color_map, **options)
-        bar.update(1)
-        mesh, lines, legend = _cad_maps(args, parser, surface, mesh)
-        bar.set_postfix_str(f"writing {out.name}")
-        suffix = out.suffix.lower()
-        if suffix == ".png" and legend is not None:
-            render.save(mesh, out, window_size=args.window_size, edges=args.edges, lines=lines,
-                        title=_title(args), camera=args.camera, legend=legend if args.legend else False)
-        elif suffix == ".png":
-            render.save(mesh, out, args.curvature, args.color_map, window_size=args.window_size, edges=args.edges,
-                        title=_title(args), camera=args.camera, map_options=options, legend=args.legend, lines=lines)
-        elif suffix == ".html":
-            render.export_html(mesh, out, show_edges=args.edges, camera=args.camera)
-        elif suffix == ".off":
-            _mesh.write_off(mesh, out)
-        elif suffix == ".bez":
-            if patches is None:
-                what = f"the part {label!r} is" if args.file or args.model else f"surface {label!r} is analytic,"
-                parser.error(f"{what} not made of Bézier patches: no .bez export")
-            _mesh.write_cbez(patches, out)
-        else:
-            mesh.save(str(out))
-        bar.update(1)
-    for w in {str(w.message) for w in caught}:
-        print(f"note: {w}", file=sys.stderr)
-    if not args.quiet:
-        print(f"wrote {out} ({mesh.n_points} points, {time.perf_counter() - start:.2f} s)", file=sys.stderr)
-    return 0
-
-
-def _cad_maps(args, parser, surface, mesh):
-    """--draft, --min-radius and --combs: the mesh recoloured, the lines drawn over it, the legend (None: unchanged)."""
-    from .interrogation import combs as _combs
-    from .interrogation import maps as _maps
-    from .view.legend import draft_legend, radius_legend
-
-    lines, legend = [], None
-    try:
-        if args.draft is not None:
-            mesh = _maps.draft_map(mesh, args.draft)
-            lines.append(_maps.parting_line(mesh))
-            legend = draft_legend()
-        elif args.min_radius is not None:
-            mesh = _maps.radius_map(mesh, args.min_radius)
-            legend = radius_legend(args.min_radius)
-    except ValueError as exc:
-        parser.error(str(exc))
-    if args.combs is not None:
-        if not hasattr(surface, "derivatives"):
-            parser.error("--combs needs a surface (--surface), not a part (--file, --model)")
-        try:
-            found = _combs.border_combs(surface, density=args.comb_density, scale=args.comb_scale, count=args.combs)
-        except ValueError as exc:
-            parser.error(str(exc))
-        lines.append(_combs.comb_lines(found))
-    if not lines:
-        return mesh, None, legend
-    return mesh, lines[0] if len(lines) == 1 else lines[0].merge(lines[1:]), legend
+from .view.render_command import MODELS, OUTPUT_SUFFIXES
 
 
 def _pull(text):
@@ -154,63 +26,6 @@ def _pull(text):
     if len(p) != 3 or not all(math.isfinite(x) for x in p) or not any(p):
         raise argparse.ArgumentTypeError(f"the pull direction must look like X,Y,Z (not all 0), e.g. 0,0,1; got {text!r}")
     return p
-
-
-#: colour maps that take a range, and the keyword options --vmin / --vmax become
-RANGED_MAPS = {"linear": ("vmin", "vmax"), "dill": ("vmin", "vmax"), "symmetric": (None, "vmax")}
-
-
-def _map_options(args, parser):
-    """--vmin / --vmax as the colour map's options (only for the maps that take a range)."""
-    if args.vmin is None and args.vmax is None:
-        return {}
-    if args.color_map not in RANGED_MAPS:
-        parser.error(f"--vmin/--vmax apply to the colour maps {', '.join(RANGED_MAPS)}; got --color-map {args.color_map}")
-    low, high = RANGED_MAPS[args.color_map]
-    if args.vmin is not None and low is None:
-        parser.error("the symmetric map is centred at 0: give --vmax only (it spans -vmax … vmax)")
-    if args.vmin is not None and args.vmax is not None and not args.vmin < args.vmax:
-        parser.error(f"--vmin must be smaller than --vmax; got {args.vmin:g} and {args.vmax:g}")
-    if args.color_map == "dill" and (args.vmin is None or args.vmax is None):
-        parser.error("Dill's bands need both --vmin and --vmax")
-    options = {}
-    if args.vmin is not None:
-        options[low] = args.vmin
-    if args.vmax is not None:
-        options[high] = args.vmax
-    return options
-
-
-def _title(args):
-    if args.title is False:
-        return None
-    if isinstance(args.title, str):
-        return args.title
-    from .view.legend import MEASURES
-
-    name, symbol, _unit = MEASURES[args.curvature]
-    label = _label(args)
-    if args.file or args.model:  # a part: each face on n lines (depth means nothing for trimmed faces)
-        resolution = _("{n} lines per face").format(n=8 * 2**args.depth * args.resolution + 1)
-    else:
-        resolution = _("depth {depth}").format(depth=args.depth)
-    if getattr(args, "draft", None) is not None:
-        pull = ", ".join(f"{x:g}" for x in args.draft)
-        return _("{label}: draft angle, pull ({pull}), {resolution}").format(label=label, pull=pull,
-                                                                              resolution=resolution)
-    if getattr(args, "min_radius", None) is not None:
-        return _("{label}: radius of curvature below {r:g}, {resolution}").format(
-            label=label, r=args.min_radius, resolution=resolution)
-    return f"{label}: {name} {symbol}, {args.color_map} map, {resolution}"
-
-
-def _label(args):
-    """What the picture shows: the file's name, the named part or the surface."""
-    return Path(args.file).name if args.file else args.model or args.surface
-
-
-#: named parts for --model (lab.models)
-MODELS = ("bottle", "hammer", "impeller", "linkrods", "shell", "teapot", "terrain", "wing")
 
 
 def _camera(text):
@@ -233,6 +48,16 @@ def _window_size(text):
     if w < 16 or h < 16:
         raise argparse.ArgumentTypeError(f"window size must be at least 16x16; got {text!r}")
     return w, h
+
+
+def _render(args, parser):
+    """``curvature-lab render``: the work is :func:`lab.view.render_command.run`'s; a refusal is a usage error."""
+    from .view import render_command
+
+    try:
+        return render_command.run(args)
+    except render_command.UsageError as exc:
+        parser.error(str(exc))
 
 
 def build_parser():
@@ -291,20 +116,21 @@ def build_parser():
     # "--camera -60,35": let a negative azimuth pass as a value, not an option
     r._negative_number_matcher = re.compile(r"^-\d+(\.\d*)?(,-?\d+(\.\d*)?)?$|^-\.\d+$")
     r.set_defaults(func=_render)
-    for verb, (_module, text) in VERBS.items():
+    for verb, text in VERBS.items():
         sub.add_parser(verb, help=f"{_(text)} (curvature-lab {verb} --help)", add_help=False)
     return parser
 
 
-#: The course's commands, in the order a course uses them: verb -> (module of lab.teaching with main(), help).
+#: The course's commands, in the order a course uses them: verb -> help; each is ``lab.teaching.course.<verb>``, whose
+#: ``main(argv)`` parses the verb's own options.
 VERBS = {
-    "exercises": ("notebooks", N_("generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/")),
-    "release": ("release", N_("write the students' hand-out: exercises and the library without the answers")),
-    "collect": ("collect", N_("collect an assignment from the students' homes, with hand-in times and lateness")),
-    "grade": ("batch", N_("grade a notebook or a folder of submissions in a sandbox")),
-    "feedback": ("feedback", N_("put each student's report into the student's home")),
-    "gradebook": ("gradebook", N_("one row per student and a total, for Canvas, Moodle or CSV")),
-    "gradescope": ("gradescope", N_("build a Gradescope autograder zip for an assignment")),
+    "exercises": N_("generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/"),
+    "release": N_("write the students' hand-out: exercises and the library without the answers"),
+    "collect": N_("collect an assignment from the students' homes, with hand-in times and lateness"),
+    "grade": N_("grade a notebook or a folder of submissions in a sandbox"),
+    "feedback": N_("put each student's report into the student's home"),
+    "gradebook": N_("one row per student and a total, for Canvas, Moodle or CSV"),
+    "gradescope": N_("build a Gradescope autograder zip for an assignment"),
 }
 
 
@@ -313,7 +139,7 @@ def main(argv=None):
     if argv and argv[0] in VERBS:
         import importlib
 
-        return importlib.import_module(f"lab.teaching.{VERBS[argv[0]][0]}").main(argv[1:])
+        return importlib.import_module(f"lab.teaching.course.{argv[0]}").main(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command == "render" and args.resolution < 1:

@@ -33,7 +33,7 @@ def no_warnings():
 def keyring():
     """This process's user keyring (root's in CI) with a secret planted for the module's tests, which a graded
     notebook must not reach (tests/test_sandbox.py, tests/test_hostile.py)."""
-    from lab.teaching import seccomp
+    from lab.teaching.sandbox.bubblewrap import seccomp
     from tests.sandbox_support import Keyring
 
     if seccomp.syscall_number("keyctl") is None:

@@ -12,7 +12,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from .browser_support import free_port, serving
+from tests.browser_support import free_port, serving
 
 ROOT = Path(__file__).resolve().parent.parent
 _BIN = Path("node") / "node_modules" / ".bin" / "configurable-http-proxy"

@@ -4,7 +4,7 @@ Starting a kernel and importing the lab's view (PyVista, VTK, ipywidgets) costs 
 shared kernel pays it once.  Between two notebooks the kernel forgets the previous one: its namespace is
 reset (``%reset -f``), matplotlib's figures are closed, exercise mode is switched off and the language is set
 again, so each notebook starts as in a fresh kernel except for the modules already imported.  Cells run
-with nbclient (:class:`lab.teaching.runner_client.NotebookRunner`), errors not allowed.
+with nbclient (:class:`lab.teaching.kernel.notebook_client.NotebookRunner`), errors not allowed.
 """
 
 import contextlib
@@ -14,7 +14,7 @@ import nbformat
 from jupyter_client.manager import AsyncKernelManager
 from jupyter_core.utils import run_sync
 
-from lab.teaching.runner_client import NotebookRunner
+from lab.teaching.kernel.notebook_client import NotebookRunner
 
 #: What runs before each notebook in a shared kernel (not part of the notebook's outputs).
 RESET = ("get_ipython().run_line_magic('reset', '-f')\n"

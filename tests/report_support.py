@@ -5,8 +5,8 @@ import csv
 import io
 import os
 
-from lab.teaching import batch
-from lab.teaching.grading import GradeResult
+from lab.teaching.course import files, grade
+from lab.teaching.grader.notebook import GradeResult
 
 ID = "05_visualize_curvature"
 
@@ -27,16 +27,28 @@ def report_folder(folder, *results, late=None, summary=None):
     fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
     try:
         for k, res in enumerate(results):
-            batch._write_reports(fd, f"r{k}", res, "text", "visible")
+            grade._write_reports(fd, f"r{k}", res, "text", "visible")
     finally:
         os.close(fd)
     buf = io.StringIO()
     writer = csv.writer(buf)
-    writer.writerow(batch.SUMMARY_COLUMNS)
+    writer.writerow(files.SUMMARY_COLUMNS)
     for res in results:
         collected = {res.student: {"late_seconds": late.get(res.student, "")}}
-        row = dict(zip(batch.SUMMARY_COLUMNS, batch._summary_row(res.student, res.notebook, res, collected)))
+        row = dict(zip(files.SUMMARY_COLUMNS, grade._summary_row(res.student, res.notebook, res, collected)))
         row.update(summary.get(res.student, {}))
-        writer.writerow([row[c] for c in batch.SUMMARY_COLUMNS])
+        writer.writerow([row[c] for c in files.SUMMARY_COLUMNS])
     (folder / "summary.csv").write_text(buf.getvalue())
     return folder
+
+
+def rows_of(path):
+    """The rows of a CSV file as dicts (as a spreadsheet shows them: quotes not taken off)."""
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def text_file(path, text):
+    """``path`` with ``text`` in it (a marking CSV an instructor saved)."""
+    path.write_text(text)
+    return path

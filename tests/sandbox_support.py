@@ -3,7 +3,7 @@ attack ``tests/data/hostile/kernel_escape.ipynb`` read back."""
 
 import ctypes
 
-from lab.teaching import sandbox, seccomp
+from lab.teaching.sandbox import bubblewrap, seccomp
 
 
 def escape_report(result):
@@ -14,7 +14,7 @@ def escape_report(result):
 
 
 def assert_contained(said):
-    assert said["uid"] == str(sandbox.INSIDE_ID), said
+    assert said["uid"] == str(bubblewrap.INSIDE_ID), said
     for name in ("kernel/core_pattern", "kernel/panic", "vm/drop_caches"):
         assert said[name] in ("Read-only file system", "Permission denied"), said
     for what in ("secret", "user keyring", "left key", "unshare"):

@@ -242,7 +242,7 @@ def test_camera_inf(tmp_path):
 def test_grading_a_json_list(tmp_path):
     path = tmp_path / "05_visualize_curvature.ipynb"
     path.write_text("[1, 2]")
-    from lab.teaching.grading import read_submission
+    from lab.teaching.grader.notebook import read_submission
 
     with pytest.raises(ValueError, match=r"not a notebook: a notebook is a JSON object with 'cells' \(nbformat 4\); "
                                          r"the file holds a JSON list"):

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from .browser_support import (
+from tests.browser_support import (
     CHROMIUM,
     CHROMIUM_ARGS,
     Notebook,

@@ -9,7 +9,7 @@ from lab.colormaps import f1, f2, f3, h
 
 import lab
 from lab import check
-from lab.teaching import hints
+from lab.teaching.tasks import hints
 
 
 def make_solution(mistake=None):
@@ -302,7 +302,7 @@ def test_derivative_nets_and_corners_hints():
 
 
 def test_cases_are_fresh_each_run_and_reproducible_with_a_seed():
-    from lab.teaching.references import rand_net as _rand_net
+    from lab.teaching.tasks.references import rand_net as _rand_net
 
     a = _rand_net(np.random.default_rng(), 2, 3)
     b = _rand_net(np.random.default_rng(), 2, 3)
@@ -386,7 +386,7 @@ def test_an_exception_in_one_case_does_not_zero_the_others():
 
 def test_every_blocked_name_is_a_function_of_the_library():
     """A renamed library function must not silently drop out of a task's blocked list (or break every check)."""
-    from lab.teaching.runner import resolve
+    from lab.teaching.self_check import resolve
     from lab.teaching.tasks import TASKS
 
     for task in TASKS.values():

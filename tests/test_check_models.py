@@ -1,11 +1,11 @@
-"""The check of notebook 11's task (lab.teaching.tasks_models): which faces of a part are developable."""
+"""The check of notebook 11's task (lab.teaching.tasks.models): which faces of a part are developable."""
 
 import numpy as np
 import pytest
 import sympy as sp
 
 from lab import check
-from lab.teaching import tasks_models as tm
+from lab.teaching.tasks import models
 
 
 def _size(s):
@@ -61,10 +61,10 @@ def test_the_truth_of_every_case_is_far_from_the_tolerance():
     rng = np.random.default_rng(11)
     worst_flat, least_curved = 0.0, np.inf
     for _ in range(40):
-        for name in tm._MAKERS:
-            face = tm._model(rng, [name], scale=float(10.0 ** rng.uniform(-4, 3)))[0]
-            kn = tm.relative_gaussian(tm._surface(face))[0]
-            if name in tm.DEVELOPABLE:
+        for name in models._MAKERS:
+            face = models._model(rng, [name], scale=float(10.0 ** rng.uniform(-4, 3)))[0]
+            kn = models.relative_gaussian(models._surface(face))[0]
+            if name in models.DEVELOPABLE:
                 worst_flat = max(worst_flat, kn)
             else:
                 least_curved = min(least_curved, kn)
@@ -84,7 +84,7 @@ def test_developable_by_construction_with_sympy(name):
     """K's numerator det[x_uu, x_u, x_v] det[x_vv, x_u, x_v] - det[x_uv, x_u, x_v]^2 is the zero polynomial for
     the plane and the tangent surface (exact rational control points), and not for the twisted patch."""
     rng = np.random.default_rng(3)
-    face = tm._MAKERS[name](rng)
+    face = models._MAKERS[name](rng)
     P = np.vectorize(lambda x: sp.Rational(x).limit_denominator(10**6), otypes=[object])(np.round(face["P"], 6))
     if name == "tangent":  # rebuild the rows exactly from the curve: c + a e and c + b e
         c = np.vectorize(lambda x: sp.Rational(x).limit_denominator(10**6), otypes=[object])(
@@ -103,12 +103,12 @@ def test_developable_by_construction_with_sympy(name):
 def test_rational_faces_have_their_curvature():
     """The sphere band has K = 1/R^2 everywhere; the exact cylinder and cone K = 0 (to rounding)."""
     rng = np.random.default_rng(5)
-    sphere = tm._surface(tm._sphere(rng))
+    sphere = models._surface(models._sphere(rng))
     R = np.linalg.norm(sphere.evaluate(0.3, 0.6))  # centred at the origin before the model moves it
     c = sphere.curvature(np.linspace(0, 1, 9)[:, None], np.linspace(0, 1, 9)[None, :])
     assert np.allclose(c.K, 1 / R**2, rtol=1e-12) and np.allclose(c.k1, c.k2, rtol=1e-10)
     for name in ("cylinder", "cone"):
-        s = tm._surface(tm._MAKERS[name](rng))
+        s = models._surface(models._MAKERS[name](rng))
         assert _max_K(s) * _size(s) ** 2 < 1e-13 and _max_K(s, which="H") * _size(s) > 0.1
 
 

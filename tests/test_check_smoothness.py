@@ -1,11 +1,11 @@
-"""The check of notebook 12's task (lab.teaching.tasks_smoothness): principal directions at a patch corner."""
+"""The check of notebook 12's task (lab.teaching.tasks.smoothness): principal directions at a patch corner."""
 
 import numpy as np
 import pytest
 
 import lab
 from lab import check
-from lab.teaching import tasks_smoothness
+from lab.teaching.tasks import smoothness
 
 
 def weingarten(bu, bv, buu, buv, bvv, *, mistake=None):
@@ -34,9 +34,9 @@ def test_reference_solution_passes_public_and_graded():
 def test_expected_agrees_with_the_library(rng):
     # the exact (sympy) answer against curvature(..., directions=True) of the patch itself
     for _ in range(3):
-        P, d = tasks_smoothness._net(rng)
+        P, d = smoothness._net(rng)
         c = lab.BezierSurface(P).curvature(0.0, 0.0, directions=True)
-        e = tasks_smoothness.exact(*d)
+        e = smoothness.exact(*d)
         assert abs(abs(e[0] @ c.d1) - 1) <= 1e-13 and abs(abs(e[1] @ c.d2) - 1) <= 1e-13
 
 

@@ -1,4 +1,4 @@
-"""The check of notebook 10's task (lab.teaching.tasks_trimming): the signed area of a trimming loop."""
+"""The check of notebook 10's task (lab.teaching.tasks.trimming): the signed area of a trimming loop."""
 
 import numpy as np
 import pytest
@@ -6,7 +6,7 @@ import sympy as sp
 
 import lab
 from lab import check
-from lab.teaching import tasks_trimming
+from lab.teaching.tasks import trimming
 
 
 def shoelace(P):
@@ -25,9 +25,9 @@ def test_reference_solution_passes_public_and_graded():
 def test_expected_areas_are_exact(rng):
     # the check's reference is the shoelace formula in rational arithmetic; sympy's polygon area is signed too
     for k in range(6):
-        P = tasks_trimming._star(rng, 7, clockwise=bool(k % 2))
+        P = trimming._star(rng, 7, clockwise=bool(k % 2))
         exact = sp.Polygon(*[sp.Point(sp.Rational(str(u)), sp.Rational(str(v))) for u, v in P]).area
-        assert tasks_trimming._exact_area(P) == float(exact)
+        assert trimming._exact_area(P) == float(exact)
         assert (exact < 0) == bool(k % 2)  # clockwise: negative
         assert not len(lab.trimming.loop_intersections(P, 1.0)[0])  # a simple polygon
 

@@ -15,7 +15,7 @@ import time
 import nbformat
 import pytest
 
-from lab.teaching import collect
+from lab.teaching.course import collect
 from tests.test_course import ID, _snapshot
 
 UTC = datetime.timezone.utc

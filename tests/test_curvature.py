@@ -9,8 +9,7 @@ from lab.curvature import DegeneratePointWarning, PointClass
 
 import lab
 from lab import analytic, surfaces
-
-from .conftest import rotation
+from tests.conftest import rotation
 
 GRID = np.meshgrid(np.linspace(0, 1, 9), np.linspace(0, 1, 9), indexing="ij")
 

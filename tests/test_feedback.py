@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from lab.teaching import feedback
+from lab.teaching.course import feedback
 from tests.report_support import ID, report_folder, result
 
 
@@ -98,3 +98,41 @@ def test_no_report_at_all_is_still_an_error(tmp_path, homes, capsys):
     assert "no reports (<name>.json written by curvature-lab grade)" in capsys.readouterr().err
     assert feedback.main([str(tmp_path / "reports"), str(tmp_path / "nowhere")]) == 2
     assert "is not a folder of homes" in capsys.readouterr().err
+
+
+def test_feedback_usage_names_the_homes(capsys):
+    with pytest.raises(SystemExit):
+        feedback.main(["reports/05"])
+    err = capsys.readouterr().err
+    assert "REPORTS [REPORTS ...] HOMES" in err and "required: HOMES" in err
+
+
+def test_feedback_keeps_a_page_the_student_edited(tmp_path):
+    """Only a page whose bytes are exactly what feedback wrote is replaced: a page the student added notes to stays,
+    and the new page is numbered (and replaced on the next run, being the command's own)."""
+    reports = report_folder(tmp_path / "reports", result("ada"))
+    (tmp_path / "home" / "ada").mkdir(parents=True)
+    pages = tmp_path / "home" / "ada" / "feedback"
+    feedback.feedback([reports], tmp_path / "home")
+    first = (pages / f"{ID}.html").read_bytes()
+    assert "7.5 of 10 points" in first.decode()
+    feedback.feedback([reports], tmp_path / "home")  # unchanged: replaced in place, nothing numbered
+    assert (pages / f"{ID}.html").read_bytes() == first and sorted(p.name for p in pages.iterdir()) == [f"{ID}.html"]
+    with open(pages / f"{ID}.html", "a") as fh:
+        fh.write("<p>MY NOTES</p>\n")
+    feedback.feedback([reports], tmp_path / "home")
+    assert (pages / f"{ID}.html").read_bytes() == first + b"<p>MY NOTES</p>\n"  # the student's edit is kept
+    assert (pages / f"{ID}.2.html").read_bytes() == first
+    (pages / f"{ID}.2.html").write_bytes(first.replace(b"7.5 of 10", b"10 of 10"))  # edited inside, stamp kept
+    feedback.feedback([reports], tmp_path / "home")
+    assert b"10 of 10" in (pages / f"{ID}.2.html").read_bytes() and (pages / f"{ID}.3.html").read_bytes() == first
+    assert not list(pages.glob(".*"))  # no temporary file left behind
+
+
+def test_a_german_feedback_page_writes_decimal_commas():
+    from lab.teaching.grader.notebook import GradeResult
+
+    task = {"task": "visualize_curvature", "object": "MyBezierPatches", "points": 10, "score": 4 / 18,
+            "passed": False, "report": "", "message": "", "cases": []}
+    page = feedback.render(GradeResult("bea/05.ipynb", assignment=ID, lang="de", tasks=[task]))
+    assert "2,22 von 10 Punkten" in page and "(MyBezierPatches): 2,22 / 10</h2>" in page, page

@@ -98,7 +98,7 @@ def _outputs(nb):
 @pytest.mark.parametrize("path", sorted((ROOT / "solutions" / "de").glob("*.ipynb")), ids=lambda p: p.stem)
 def test_german_notebooks_print_german(path, tmp_path):
     """Run All on a German solution (no frontend: the explorers show pictures); its printed outputs are German."""
-    from lab.teaching.runner_client import NotebookRunner  # nbclient's own waits can stall a whole cell limit
+    from lab.teaching.kernel.notebook_client import NotebookRunner  # nbclient's own waits can stall a whole cell limit
 
     nb = nbformat.read(path, as_version=4)
     NotebookRunner(nb, timeout=900, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}},

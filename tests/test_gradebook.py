@@ -7,8 +7,9 @@ import io
 
 import pytest
 
-from lab.teaching import gradebook, untrusted, written
-from tests.report_support import ID, report_folder, result
+from lab.teaching import untrusted
+from lab.teaching.course import files, gradebook, written
+from tests.report_support import ID, report_folder, result, rows_of, text_file
 
 OTHER = "09_dill_gallery"
 
@@ -96,3 +97,37 @@ def test_the_instructors_own_mistakes_stay_errors(tmp_path, capsys):
     assert "no summary.csv" in capsys.readouterr().err
     with pytest.raises(gradebook.GradebookError, match="name no assignment"):
         gradebook.gradebook([report_folder(tmp_path / "empty")])
+
+
+def test_gradebook_csv_keeps_a_student_called_max(tmp_path):
+    reports = tmp_path / "reports"
+    reports.mkdir()
+    with open(reports / "summary.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=files.SUMMARY_COLUMNS)
+        w.writeheader()
+        w.writerow({"student": "max", "notebook": f"max/{ID}.ipynb", "score": 4, "max_score": 10, "assignment": ID})
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(reports), "-o", str(out)]) == 0
+    table = {r["student"]: r for r in rows_of(out)}
+    assert float(table["max"][ID]) == 4 and float(table[gradebook.MAX_ROW][ID]) == 10
+
+
+def test_gradebook_refuses_written_points_without_their_reports(tmp_path, capsys):
+    reports05 = report_folder(tmp_path / "reports" / "05", result("ada"))
+    reports04 = report_folder(tmp_path / "reports" / "04", result("ada", assignment="04_color_maps", score=0.0))
+    marks = text_file(tmp_path / "marked.csv", "student,assignment,question,max_points,points\n"
+                                            "ada,04_color_maps,bfbc93a2,3,2.5\n")
+    out = tmp_path / "grades.csv"
+    assert gradebook.main([str(reports05), "--written", str(marks), "-o", str(out)]) == 2
+    assert capsys.readouterr().err == (
+        f"curvature-lab gradebook: error: {marks}: written points of assignment 04_color_maps, whose reports are not "
+        f"among the report folders ({ID}): pass the folder graded for 04_color_maps too (its autograded points and "
+        "lateness are part of the grade)\n")
+    assert not out.exists()
+    assert gradebook.main([str(reports05), str(reports04), "--written", str(marks), "-o", str(out)]) == 0
+    table = {r["student"]: r for r in rows_of(out)}
+    assert table["ada"]["04_color_maps"] == "2.5" and table["(max)"]["04_color_maps"] == "13.0"
+    assert table["ada"]["total"] == "10.0"  # 7.5 + 2.5
+    assert gradebook.main([str(reports05), str(reports04), "--written", str(marks), "--written", str(marks),
+                           "-o", str(out)]) == 2
+    assert f"ada's written points of 04_color_maps are in {marks} and in {marks}" in capsys.readouterr().err

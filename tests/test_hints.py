@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from lab import check
-from lab.teaching import mutants, references
+from lab.teaching.tasks import mutants, references
 from tests.students import MISTAKES, student_class
 
 #: What the report's headline must say for each mistake (the first failing case's hint).

@@ -19,7 +19,9 @@ from pathlib import Path
 import nbformat
 import pytest
 
-from lab.teaching import batch, results, sandbox
+from lab.teaching.course import grade
+from lab.teaching.grader import sandbox_output
+from lab.teaching.sandbox import bubblewrap
 from tests.sandbox_support import assert_contained, escape_report
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -128,7 +130,7 @@ def graded(tmp_path_factory, keyring):
         fh.write(b'{"cells": [], "metadata": {}, "nbformat": 4, "nbformat_minor": 5, "x": "' + b"x" * (25 << 20) + b'"}')
     out = course / "reports"
     before = snapshot(course, out)
-    results = batch.grade_folder(subs, out, jobs=2, seed=20261201, assignment=ASSIGNMENT, timeout=15,
+    results = grade.grade_folder(subs, out, jobs=2, seed=20261201, assignment=ASSIGNMENT, timeout=15,
                                    check_timeout=2, total_timeout=240)
     summary = (out / "summary.csv").read_text()
     time.sleep(8)  # the detached processes of an attack would strike after 4 s
@@ -215,8 +217,8 @@ def test_limits_hold_per_submission(graded):
         # the submission's cgroup measured it: the eight forks together reached the 2 GiB limit and no further,
         # and the report says so.  (At the limit the kernel may thrash until the cell's time limit instead of
         # killing a fork at once, so the attack's own report below is not always there.)
-        assert 1800 << 20 <= result.peak_memory <= sandbox.MEMORY, result.peak_memory
-        assert any(f"MiB of its {sandbox.MEMORY >> 20} MiB memory limit" in n for n in result.notes), result.text()
+        assert 1800 << 20 <= result.peak_memory <= bubblewrap.MEMORY, result.peak_memory
+        assert any(f"MiB of its {bubblewrap.MEMORY >> 20} MiB memory limit" in n for n in result.notes), result.text()
     else:  # no cgroup here: the kernel was killed, or the attack says what survived
         assert any(e["kind"] == "died" for e in result.cell_errors) or held, result.text()
     # 2 GiB for all processes together: what the limit promises is about the processes that *held* their 400 MiB
@@ -253,7 +255,7 @@ def test_the_timed_out_submission_reports_it(graded):
     assert task["status"] == "timeout" and "did not stop when interrupted" in task["report"]
 
 
-@pytest.mark.skipif(not sandbox.bwrap_works(), reason="bubblewrap cannot run here")
+@pytest.mark.skipif(not bubblewrap.bwrap_works(), reason="bubblewrap cannot run here")
 def test_the_library_copy_in_the_sandbox_withholds_the_answers(graded):
     results = graded["results"]
     for name in ("restore_library_code", "second_copy_importlib"):
@@ -261,7 +263,7 @@ def test_the_library_copy_in_the_sandbox_withholds_the_answers(graded):
     assert results["restore_library_code"].tasks[0]["status"] == "delegated"
 
 
-@pytest.mark.skipif(not sandbox.bwrap_works(), reason="bubblewrap cannot run here")
+@pytest.mark.skipif(not bubblewrap.bwrap_works(), reason="bubblewrap cannot run here")
 def test_the_kernel_of_the_grading_machine_is_out_of_reach(graded, keyring):
     """Graded as root (CI): uid 1000 inside an unprivileged id, /proc/sys read-only, no keyring, no namespaces."""
     assert_contained(escape_report(graded["results"]["kernel_escape"].to_dict()))
@@ -281,4 +283,4 @@ def test_a_million_line_cell_and_floods_cost_the_grader_nothing(graded):
     assert result.score == 0 and result.max_score == 10 and not result.error, result.text()
     cases = result.tasks[0]["cases"]
     assert cases[1]["status"] == "failed" and "far more numbers than the task asks for" in cases[1]["got"], cases[1]
-    assert f"more than {results.MAX_VALUES} are not read" in cases[1]["got"]
+    assert f"more than {sandbox_output.MAX_VALUES} are not read" in cases[1]["got"]

@@ -17,8 +17,8 @@ from urllib.parse import urlsplit
 
 import pytest
 
-from .browser_support import CHROMIUM, CHROMIUM_ARGS, Notebook, coverage
-from .hub_support import PROXY, ROOT, jupyterhub, login
+from tests.browser_support import CHROMIUM, CHROMIUM_ARGS, Notebook, coverage
+from tests.hub_support import PROXY, ROOT, jupyterhub, login
 
 NOTEBOOK = "05_visualize_curvature.ipynb"
 STUDENTS = ("ada", "bob")
@@ -165,7 +165,7 @@ def test_a_course_from_handout_to_gradebook(hub, tmp_path, monkeypatch):
     import nbformat
     from playwright.sync_api import sync_playwright
 
-    from lab.teaching import batch, collect, feedback, gradebook, release
+    from lab.teaching.course import collect, feedback, grade, gradebook, release
 
     url, root = hub
     handout = release.release(tmp_path / "curvature-lab-student", git=True)
@@ -205,7 +205,7 @@ def test_a_course_from_handout_to_gradebook(hub, tmp_path, monkeypatch):
         rows = {r["student"]: r for r in collect.collect(homes, "05_visualize_curvature", deadline.isoformat(), subs,
                                                          roster=list(students))}
         assert rows["uli"]["late"] is False and rows["vic"]["late"] is True
-        results = {r.student: r for r in batch.grade_folder(subs, reports, jobs=2, timeout=120)
+        results = {r.student: r for r in grade.grade_folder(subs, reports, jobs=2, timeout=120)
                    if r.student in students}
         assert results["uli"].score == 10 and results["uli"].lang == "de"
         assert results["vic"].score < 10 and results["vic"].lang == "en"

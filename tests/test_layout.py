@@ -1,6 +1,7 @@
 """The package layout: folders are layers, imports point down, no cycles, small modules, a cheap ``import lab``."""
 
 import ast
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -80,7 +81,8 @@ def test_the_layers_are_the_folders():
     assert folders == sorted(lab.LAYERS)
     for layer in lab.LAYERS:
         doc = ast.get_docstring(ast.parse((ROOT / layer / "__init__.py").read_text()))
-        assert doc and len(doc.strip().splitlines()) <= 3, f"lab/{layer}/__init__.py needs a docstring of at most three lines"
+        summary = (doc or "").strip().split("\n\n")[0]  # a map of the layer's folders may follow (teaching)
+        assert summary and len(summary.splitlines()) <= 3, f"lab/{layer}/__init__.py needs a summary of at most three lines"
         assert "import" in doc, f"lab/{layer}/__init__.py must say what the layer may import"
 
 
@@ -158,3 +160,89 @@ def test_public_api_and_aliases_resolve():
     assert f2 is sys.modules["lab.geometry.colormaps"].f2
     with pytest.raises(AttributeError, match="has no attribute 'nonsense'"):
         lab.nonsense  # noqa: B018
+
+
+# -- inside lab/teaching: rooms by role, the trust boundaries are folders ------------------------------------------
+
+#: What a module of each room of ``lab/teaching`` may import of ``lab.teaching`` (besides its own room).  The rooms
+#: are the sub-packages and the modules at the root (``lab.teaching.task`` is "task").
+TEACHING_RULES = {
+    "kernel": set(),  # runs beside the student's code: the only teaching code the sandbox keeps
+    "report": set(),
+    "untrusted": set(),
+    "task": {"report", "kernel"},  # the task model (results come back in the kernel protocol's plain numbers)
+    "tasks": {"task", "report", "kernel"},  # cases, answers, hints, mutants
+    "sandbox": {"kernel", "tasks"},  # the withheld names of the tasks; never the self-check
+    "self_check": {"kernel", "task", "report", "untrusted"},
+    "check": {"self_check", "task", "report", "tasks"},
+    "grader": {"kernel", "task", "report", "tasks", "sandbox", "untrusted"},
+    "course": {"kernel", "task", "report", "tasks", "sandbox", "untrusted", "grader"},  # the verbs sit on top
+}
+
+
+def teaching_room(name):
+    parts = name.split(".")
+    return parts[2] if len(parts) > 2 and parts[:2] == ["lab", "teaching"] else None
+
+
+def test_teaching_is_folders_by_role():
+    """Every module of lab/teaching is in a room of :data:`TEACHING_RULES`, and the package's docstring maps them."""
+    teaching = ROOT / "teaching"
+    rooms = {p.stem for p in teaching.iterdir() if p.suffix == ".py" and p.stem != "__init__"} | {
+        p.name for p in teaching.iterdir() if p.is_dir() and (p / "__init__.py").exists()}
+    assert rooms == set(TEACHING_RULES)
+    doc = ast.get_docstring(ast.parse((teaching / "__init__.py").read_text()))
+    for room in TEACHING_RULES:
+        assert f"``{room}" in doc, f"lab/teaching/__init__.py does not map {room}"
+
+
+def test_imports_inside_teaching_follow_the_rooms():
+    known = modules()
+    bad = []
+    for name, path in known.items():
+        room = teaching_room(name)
+        if room is None:
+            continue
+        for target in lab_imports(name, path, known):
+            other = teaching_room(target)
+            if other is not None and other != room and other not in TEACHING_RULES[room]:
+                bad.append(f"{name} ({room}) -> {target} ({other})")
+    assert not bad, "imports across the rooms of lab/teaching that the rules do not allow:\n" + "\n".join(bad)
+
+
+def test_only_tasks_holds_cases_answers_and_hints():
+    """Outside ``tasks/`` a module may import the registry (``lab.teaching.tasks``: the task names, ``TASKS``) but no
+    module inside it: whatever imports the cases, answers, hints or mutants must itself be withheld, and only
+    ``tasks/`` is (the hand-out ships everything else as source)."""
+    known = modules()
+    bad = []
+    for name, path in known.items():
+        if teaching_room(name) == "tasks":
+            continue
+        for target in lab_imports(name, path, known):
+            if target.startswith("lab.teaching.tasks."):
+                bad.append(f"{name} -> {target}")
+    assert not bad, "modules outside lab/teaching/tasks that import its answers:\n" + "\n".join(bad)
+
+
+def test_the_trust_boundaries_are_the_folders(tmp_path):
+    """The sandbox's copy of the library keeps of lab/teaching exactly ``kernel/`` (and a stub of ``check``); the
+    hand-out's copy ships every module of ``tasks/`` as a stub whose code is compiled only, whatever its name."""
+    from lab.teaching.sandbox import withhold
+
+    package = withhold.prepare_package([], ["warmup"], tmp_path / "sandbox")
+    kept = sorted(str(p.relative_to(package / "teaching")) for p in (package / "teaching").rglob("*.py"))
+    assert kept == ["__init__.py", "check.py"] + sorted(
+        f"kernel/{p.name}" for p in (ROOT / "teaching" / "kernel").glob("*.py"))
+    assert "checked by the grader" in (package / "teaching" / "check.py").read_text()
+    original, copy = tmp_path / "course" / "lab", tmp_path / "handout" / "lab"
+    shutil.copytree(ROOT, original, ignore=shutil.ignore_patterns("__pycache__"))
+    (original / "teaching" / "tasks" / "new_notebook.py").write_text("ANSWER = 42\n")  # a module no list names
+    shutil.copytree(original, copy)
+    pairs = withhold.hand_out(copy, original)
+    stubs = {file.relative_to(copy) for _source, file in pairs}
+    tasks = {p.relative_to(copy) for p in (copy / "teaching" / "tasks").glob("*.py")}
+    assert tasks <= stubs and Path("teaching/tasks/new_notebook.py") in tasks
+    for path in tasks:
+        text = (copy / path).read_text()
+        assert "withheld in this hand-out" in text and "ANSWER = 42" not in text and "\ndef " not in text, path

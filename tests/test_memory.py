@@ -9,8 +9,7 @@ import lab
 import lab.mesh
 from lab import surfaces
 from lab.geometry import validation as _v
-
-from .measure import traced_peak
+from tests.measure import traced_peak
 
 
 @pytest.fixture

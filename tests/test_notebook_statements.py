@@ -10,7 +10,7 @@ from pathlib import Path
 
 import nbformat
 
-from lab.teaching.runner_client import NotebookRunner
+from lab.teaching.kernel.notebook_client import NotebookRunner
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -20,7 +20,9 @@ from pathlib import Path
 import pytest
 
 import lab
-from lab.teaching import assignments, grading, protocol, sandbox
+from lab.teaching.grader import assignments, notebook
+from lab.teaching.kernel import protocol
+from lab.teaching.sandbox import bubblewrap, withhold
 from lab.teaching.tasks import TASKS
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -112,7 +114,7 @@ CALL = r"""
 import inspect, json, os, sys
 import numpy as np
 import lab
-from lab.teaching.protocol import MARKER
+from lab.teaching.kernel.protocol import MARKER
 
 P = np.array([[[0, 0, 0], [0, 1, 0.2], [0, 2, 0]], [[1, 0, 0.3], [1, 1, 1.0], [1, 2, -0.2]],
               [[2, 0, 0], [2, 1, 0.4], [2, 2, 0.1]]], dtype=float)
@@ -292,13 +294,13 @@ def verdicts(tmp_path_factory):
     candidates, excused = roads(), _excused()
     out, by_blocked = {}, {}
     for task, needs in NEEDS.items():
-        blocked = frozenset(TASKS[task].blocked) | set(grading.ANALYTIC_BLOCK)
+        blocked = tuple(withhold.withheld([task]))
         allowed = {_code(name) for name in ALLOWED.get(task, ())}
         mine = sorted(r for r, kinds in candidates.items()
                       if KIND_OF.get(_dotted(r), kinds) & needs and _code(_dotted(r)) not in excused | allowed
                       and not WIDGETS.match(_dotted(r)))
         if blocked not in by_blocked:
-            package = sandbox.prepare_package(sorted(blocked), list(TASKS), tmp_path_factory.mktemp("pkg"))
+            package = withhold.prepare_package(blocked, list(TASKS), tmp_path_factory.mktemp("pkg"))
             if importlib.util.find_spec("OCP") is not None:  # a real part for the roads through OpenCASCADE
                 lab.write(lab.BezierSurface(PART), str(package.parent / "part.brep"))
             by_blocked[blocked] = package
@@ -332,7 +334,7 @@ def test_an_assignment_without_cad_files_has_no_cad_kernel(tmp_path):
               "'rhino3dm': works('rhino3dm', 'Surface'), 'numpy': works('numpy', 'cross')}))")
     seen = {}
     for found in (plain, real):
-        box = sandbox.Sandbox(sandbox.LAB_DIR, tmp_path / found.id, hide=grading.hidden_modules(found))
+        box = bubblewrap.Sandbox(bubblewrap.LAB_DIR, tmp_path / found.id, hide=notebook.hidden_modules(found))
         if not box.bwrap:
             pytest.skip("bubblewrap cannot run here")
         with box.workspace() as work:

@@ -18,7 +18,7 @@ EXERCISES = [p for lang in ("en", "de") for p in sorted((ROOT / "exercises" / la
 
 pytestmark = pytest.mark.xdist_group("run_all")  # one kernel per language for all 26 notebooks, on one worker
 
-#: How the one-line messages of exercise mode (lab.teaching.unfinished) and a check's stub report begin.
+#: How the one-line messages of exercise mode (lab.teaching.kernel.exercise_mode) and a check's stub report begin.
 LINES = {"en": ("… Stopped here:", "… Not run:"), "de": ("… Hier angehalten:", "… Nicht ausgeführt:")}
 NOT_IMPLEMENTED = {"en": "not implemented yet", "de": "noch nicht implementiert"}
 

@@ -17,7 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from lab.teaching import batch, grading, sandbox, seccomp
+from lab.teaching.course import grade
+from lab.teaching.grader import notebook
+from lab.teaching.sandbox import bubblewrap, seccomp
 from tests.sandbox_support import assert_contained, escape_report
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -26,13 +28,13 @@ ASSIGNMENT = ROOT / "exercises" / "en" / "05_visualize_curvature.ipynb"
 #: The ordinary user that grades in the second run (no account needed).
 ORDINARY = 54321
 
-needs_bwrap = pytest.mark.skipif(not sandbox.bwrap_works(), reason="bubblewrap cannot run here")
+needs_bwrap = pytest.mark.skipif(not bubblewrap.bwrap_works(), reason="bubblewrap cannot run here")
 needs_root = pytest.mark.skipif(os.geteuid() != 0, reason="the grader runs as root here only in CI and as root")
 
 
 @needs_bwrap
 def test_the_probe_finds_every_protection():
-    broken, missing = sandbox.probe()
+    broken, missing = bubblewrap.probe()
     assert broken is None and missing == []
 
 
@@ -41,14 +43,14 @@ def test_without_the_syscall_filter_the_probe_names_it_and_a_folder_is_not_grade
     """The filter is what keeps keyrings and namespaces out of reach: without libseccomp the probe finds both open,
     and a folder run stops before it grades anyone (unless --no-sandbox)."""
     monkeypatch.setattr(seccomp, "available", lambda: False)
-    broken, missing = sandbox.probe()
+    broken, missing = bubblewrap.probe()
     assert broken is None
     assert "no new namespaces (unshare of a user namespace works)" in missing
     assert "a syscall filter (seccomp is not in filter mode)" in missing
     (tmp_path / "subs" / "ada").mkdir(parents=True)
     shutil.copy(ASSIGNMENT, tmp_path / "subs" / "ada" / ASSIGNMENT.name)
-    with pytest.raises(batch.GradingError, match=r"the sandbox lacks protections .*a syscall filter .* --no-sandbox"):
-        batch.grade_folder(tmp_path / "subs", tmp_path / "out")
+    with pytest.raises(grade.GradingError, match=r"the sandbox lacks protections .*a syscall filter .* --no-sandbox"):
+        grade.grade_folder(tmp_path / "subs", tmp_path / "out")
     assert not (tmp_path / "out" / "summary.csv").exists()
 
 
@@ -57,9 +59,9 @@ def test_without_the_syscall_filter_the_probe_names_it_and_a_folder_is_not_grade
 def test_a_sandbox_that_would_stay_root_does_not_start(monkeypatch):
     """Were the submission's user to stay the host's root (here: the drop made to go to uid 0), the inner bubblewrap
     could not even make its user namespace: the probe says the kernel cannot start, and a folder is not graded."""
-    monkeypatch.setattr(sandbox, "UID_BASE", 0)
-    monkeypatch.setattr(sandbox, "UID_SPAN", 1)
-    broken, missing = sandbox.probe()
+    monkeypatch.setattr(bubblewrap, "UID_BASE", 0)
+    monkeypatch.setattr(bubblewrap, "UID_SPAN", 1)
+    broken, missing = bubblewrap.probe()
     assert broken == "bwrap: setting up uid map: Operation not permitted" and missing == []
 
 
@@ -67,10 +69,10 @@ def test_the_probe_reads_each_protection_from_the_answers_inside():
     """Each answer of the script run inside maps to the protection it proves missing (English, for the refusal)."""
     contained = {"uid": 1000, "gid": 1000, "proc_sys": "Permission denied", "proc_sys_mount": "ro",
                  "keyring": "Operation not permitted", "unshare": "Operation not permitted", "seccomp": "2"}
-    assert sandbox._protections(contained, 2_000_123_456) == []
-    assert sandbox._protections({**contained, "proc_sys_mount": "rw"}, 2_000_123_456) == [
+    assert bubblewrap._protections(contained, 2_000_123_456) == []
+    assert bubblewrap._protections({**contained, "proc_sys_mount": "rw"}, 2_000_123_456) == [
         "read-only kernel tunables (/proc/sys is not a read-only mount)"]
-    found = sandbox._protections({**contained, "uid": 0, "proc_sys": "writable", "keyring": "allowed",
+    found = bubblewrap._protections({**contained, "uid": 0, "proc_sys": "writable", "keyring": "allowed",
                                   "unshare": "allowed", "seccomp": "0"}, 0)
     assert found == ["an unprivileged user inside (the submission is uid 0 in its sandbox)",
                      "an unprivileged user outside (what the submission writes belongs to the host's root)",
@@ -83,7 +85,7 @@ def test_the_probe_reads_each_protection_from_the_answers_inside():
 @needs_bwrap
 @needs_root
 def test_graded_as_root_a_notebook_is_not_the_hosts_root(keyring):
-    result = grading.grade_notebook(ATTACK, assignment=ASSIGNMENT, seed=1, timeout=60, check_timeout=2).to_dict()
+    result = notebook.grade_notebook(ATTACK, assignment=ASSIGNMENT, seed=1, timeout=60, check_timeout=2).to_dict()
     assert result["score"] == 0 and result["max_score"] == 10
     assert_contained(escape_report(result))
     assert "the-planted-secret" not in json.dumps(result)
@@ -141,7 +143,7 @@ def _grade_as_ordinary_user(tmp_path, work, keyring):
 def test_stderr_is_read_through_a_pipe_and_only_its_end_kept(tmp_path):
     """255 MiB written to stderr landed on the host's disk and in the grader's memory: now a pipe, of which the
     grader keeps the last 4000 bytes while the rest passes."""
-    box = sandbox.Sandbox(sandbox.LAB_DIR, tmp_path / "work")
+    box = bubblewrap.Sandbox(bubblewrap.LAB_DIR, tmp_path / "work")
     code = ("import os\nchunk = b'e' * (1 << 20)\nfor _ in range(64):\n    os.write(2, chunk)\n"
             "os.write(2, b'the end')\n")
     tracemalloc.start()
@@ -151,7 +153,7 @@ def test_stderr_is_read_through_a_pipe_and_only_its_end_kept(tmp_path):
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert (status, timed_out) == (0, False)
-    assert len(tail) == sandbox.STDERR_TAIL and tail.endswith("the end") and set(tail[:-7]) == {"e"}
+    assert len(tail) == bubblewrap.STDERR_TAIL and tail.endswith("the end") and set(tail[:-7]) == {"e"}
     assert peak < 1 << 20, peak  # not 64 MiB
 
 

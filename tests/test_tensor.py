@@ -8,8 +8,7 @@ from lab.derivatives import Derivatives, from_homogeneous
 
 import lab
 from lab import bspline, surfaces, tensor
-
-from .measure import traced_peak
+from tests.measure import traced_peak
 
 
 def naive_derivatives(s, u, v):

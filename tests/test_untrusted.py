@@ -1,4 +1,4 @@
-"""What a submission or a sandbox leaves behind is read as hostile input (lab.teaching.untrusted, lab.teaching.results)."""
+"""What a submission or a sandbox leaves behind is read as hostile input (lab.teaching.untrusted, lab.teaching.grader.sandbox_output)."""
 
 import json
 import os
@@ -7,14 +7,15 @@ import threading
 
 import pytest
 
-from lab.teaching import results, untrusted
+from lab.teaching import untrusted
+from lab.teaching.grader import sandbox_output
 
 
 @pytest.fixture
 def out(tmp_path):
     folder = tmp_path / "out"
     folder.mkdir()
-    fd = results.open_folder(folder)
+    fd = sandbox_output.open_folder(folder)
     yield folder, fd
     os.close(fd)
 
@@ -23,8 +24,8 @@ def test_a_fifo_never_blocks_the_reader(out):
     folder, fd = out
     os.mkfifo(folder / "cells.json")
     done = {}
-    reader = threading.Thread(target=lambda: done.setdefault("error", pytest.raises(results.InvalidResults,
-                                                                                     results.read_cells, fd)))
+    reader = threading.Thread(target=lambda: done.setdefault("error", pytest.raises(sandbox_output.InvalidResults,
+                                                                                     sandbox_output.read_cells, fd)))
     reader.start()
     reader.join(timeout=120)  # generous: only a blocked read would take it
     assert not reader.is_alive()
@@ -35,18 +36,18 @@ def test_a_fifo_never_blocks_the_reader(out):
 def test_a_symbolic_link_is_not_followed(out, target):
     folder, fd = out
     (folder / "cells.json").symlink_to(target)
-    with pytest.raises(results.InvalidResults, match="symbolic link"):
-        results.read_cells(fd)
+    with pytest.raises(sandbox_output.InvalidResults, match="symbolic link"):
+        sandbox_output.read_cells(fd)
     (folder / "task-0.jsonl").symlink_to(target)
-    with pytest.raises(results.InvalidResults, match="symbolic link"):
-        results.read_outcomes(fd, "task-0.jsonl", 3)
+    with pytest.raises(sandbox_output.InvalidResults, match="symbolic link"):
+        sandbox_output.read_outcomes(fd, "task-0.jsonl", 3)
 
 
 def test_a_replaced_output_folder_is_refused(tmp_path):
     (tmp_path / "elsewhere").mkdir()
     (tmp_path / "out").symlink_to(tmp_path / "elsewhere")
-    with pytest.raises(results.InvalidResults, match="output folder cannot be opened"):
-        results.open_folder(tmp_path / "out")
+    with pytest.raises(sandbox_output.InvalidResults, match="output folder cannot be opened"):
+        sandbox_output.open_folder(tmp_path / "out")
 
 
 @pytest.mark.parametrize("line, match", [
@@ -63,8 +64,8 @@ def test_malformed_result_lines_make_the_results_invalid(out, line, match):
     folder, fd = out
     good = json.dumps({"index": 1, "status": "ok", "value": {"kind": "array", "shape": [], "data": [1.0]}})
     (folder / "task-0.jsonl").write_text(good + "\n" + line + "\n")
-    with pytest.raises(results.InvalidResults, match=match):
-        results.read_outcomes(fd, "task-0.jsonl", 3)
+    with pytest.raises(sandbox_output.InvalidResults, match=match):
+        sandbox_output.read_outcomes(fd, "task-0.jsonl", 3)
 
 
 def test_well_formed_results_are_read_and_a_cut_off_last_line_is_ignored(out):
@@ -73,13 +74,13 @@ def test_well_formed_results_are_read_and_a_cut_off_last_line_is_ignored(out):
              {"index": 1, "status": "error", "message": "boom \x1b[2J"},
              {"index": 0, "status": "timeout", "message": "late"}]
     (folder / "task-0.jsonl").write_text("".join(json.dumps(x) + "\n" for x in lines) + '{"index": 2, "sta')
-    found = results.read_outcomes(fd, "task-0.jsonl", 3)
+    found = sandbox_output.read_outcomes(fd, "task-0.jsonl", 3)
     assert sorted(found) == [0, 1] and found[0]["status"] == "timeout"  # the last line per index counts
     assert found[1]["message"] == "boom \\x1b[2J"
 
 
 def test_an_infinite_shape_is_refused_when_decoded():
-    from lab.teaching import protocol
+    from lab.teaching.kernel import protocol
 
     for shape in ([float("inf")], [True], [-1], [2.0], [10**9]):
         with pytest.raises(ValueError, match="malformed array shape"):
@@ -89,15 +90,15 @@ def test_an_infinite_shape_is_refused_when_decoded():
 def test_cells_json_is_validated_and_capped(out):
     folder, fd = out
     (folder / "cells.json").write_text(json.dumps({"cell_errors": [{"error": "x", "kind": "error"}]}))
-    with pytest.raises(results.InvalidResults, match="cell error 0 is malformed"):
-        results.read_cells(fd)
+    with pytest.raises(sandbox_output.InvalidResults, match="cell error 0 is malformed"):
+        sandbox_output.read_cells(fd)
     (folder / "cells.json").write_text(json.dumps({"cell_errors": [{"cell": 1, "error": "y" * (1 << 20),
                                                                    "kind": "error"}] * 2}))
-    with pytest.raises(results.InvalidResults, match="at most 1048576 are read"):
-        results.read_cells(fd)
+    with pytest.raises(sandbox_output.InvalidResults, match="at most 1048576 are read"):
+        sandbox_output.read_cells(fd)
     (folder / "cells.json").write_text(json.dumps({"cell_errors": [{"cell": 3, "error": "z" * 900, "kind": "syntax"}],
                                                    "restarts": 1}))
-    errors, restarts, complete = results.read_cells(fd)
+    errors, restarts, complete = sandbox_output.read_cells(fd)
     assert restarts == 1 and complete and errors[0]["kind"] == "syntax" and len(errors[0]["error"]) < 560
 
 
@@ -137,8 +138,8 @@ def test_a_forged_value_makes_the_results_invalid(out):
     line = {"index": 0, "status": "ok", "value": {"kind": "patches", "curvature": {"shape": [float("inf")], "data": []},
                                                  "colors": {"shape": [1], "data": [0.0]}}}
     (folder / "task-0.jsonl").write_text(json.dumps(line) + "\n")
-    with pytest.raises(results.InvalidResults, match="not what the harness writes"):
-        results.read_outcomes(fd, "task-0.jsonl", 3)
+    with pytest.raises(sandbox_output.InvalidResults, match="not what the harness writes"):
+        sandbox_output.read_outcomes(fd, "task-0.jsonl", 3)
 
 
 # -- names, spreadsheet cells and invisible characters (issue 28, items 3 and 7) --------------------------------------
@@ -245,7 +246,8 @@ def test_a_notebook_is_validated_once_and_refused_by_its_size_before_that(monkey
     raw = json.dumps(nb).encode()
     calls.clear()  # building it validated its cells
     assert untrusted.read_notebook(raw).cells[0].source == "x = 1\ny = 2" and calls == [1]  # as nbformat reads it
-    many = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("x = 1")] * (untrusted.MAX_CELLS + 1))
+    many = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("x = 1", id=f"c{k}")
+                                           for k in range(untrusted.MAX_CELLS + 1)])
     lines = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(["\n"] * (untrusted.MAX_TEXTS + 10))])
     bad = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("x")])
     bad.cells[0]["outputs"] = [{"output_type": "bogus"}]

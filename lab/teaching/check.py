@@ -12,8 +12,8 @@ live in :mod:`lab.teaching.tasks`; the grader uses the same ones, in a sandbox.
 """
 
 from .report import Case, Report
-from .runner import DEFAULT_TIMEOUT, latest_syntax_error, run_task
-from .spec import build_report, judge_outcome
+from .self_check import DEFAULT_TIMEOUT, latest_syntax_error, run_task
+from .task import build_report, judge_outcome
 from .tasks import TASKS
 
 __all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "christoffel", "corner_derivatives", "curvatures", "curve_curvature", "derivative_nets", "developable_faces", "f1", "f2", "f3", "focal_points", "fundamental_forms", "h", "principal_directions", "reflect", "run", "signed_area", "start_velocity", "visualize_curvature", "warmup"]

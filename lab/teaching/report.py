@@ -42,7 +42,7 @@ class Case:
     hint: str = ""
     status: str = ""
     weight: float = 1.0
-    #: the key of the mistake the hint names (:class:`lab.teaching.spec.Hint`), "" when it names none
+    #: the key of the mistake the hint names (:class:`lab.teaching.task.Hint`), "" when it names none
     mistake: str = ""
 
     def __post_init__(self):

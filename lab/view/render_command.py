@@ -1,0 +1,209 @@
+"""The ``curvature-lab render`` command's work (the command line in :mod:`lab.cli` only parses and dispatches): a named
+surface, a part read from a file or a named part, refined and coloured by its exact curvature (or by the draft angle,
+the smallest radius of curvature, with curvature combs), written as a picture (PNG, with title and legend), an
+interactive scene (HTML), a mesh (VTK/VTP, geomview OFF) or coloured Bézier patches for geomview (BEZ), with progress
+on stderr.  What cannot be done raises :class:`UsageError`, which the command line shows as a usage error.
+"""
+
+import sys
+import time
+import warnings
+from pathlib import Path
+
+from tqdm import tqdm
+
+from ..i18n import _
+from ..model import surfaces
+
+__all__ = ["MODELS", "OUTPUT_SUFFIXES", "RANGED_MAPS", "UsageError", "run"]
+
+
+class UsageError(ValueError):
+    """Options the command cannot honour, said in a sentence (the command line prints it with the usage)."""
+
+
+def _refuse(message):
+    raise UsageError(message)
+
+
+OUTPUT_SUFFIXES = (".png", ".html", ".off", ".vtk", ".vtp", ".bez")
+
+
+def run(args):
+    out = Path(args.output)
+    if out.suffix.lower() not in OUTPUT_SUFFIXES:
+        _refuse(f"unknown output type {out.suffix or '(none)'!r} for {out}; expected one of {', '.join(OUTPUT_SUFFIXES)}")
+    if args.depth < 0 or args.depth > 8:
+        _refuse(f"--depth must be between 0 and 8; got {args.depth}")
+    if out.parent and not out.parent.exists():
+        _refuse(f"output folder {out.parent} does not exist")
+    from .. import mesh as _mesh
+    from . import render
+
+    if out.suffix.lower() == ".png":
+        try:  # the picture's memory, before anything is built
+            render._window(args.window_size)
+        except ValueError as exc:
+            _refuse(f"--window-size: {exc}")
+    options = _map_options(args)
+    if args.draft is not None and args.min_radius is not None:
+        _refuse("--draft and --min-radius are two colourings: give one of them")
+    if args.file and args.model:
+        _refuse("--file and --model both name a part: give one of them")
+    start = time.perf_counter()
+    steps = 3 + args.depth
+    label = _label(args)
+    with tqdm(total=steps, desc=label, unit="step", disable=args.quiet, file=sys.stderr) as bar, \
+            warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        bar.set_postfix_str("reading the file" if args.file or args.model else "building surface")
+        if args.file or args.model:
+            from ..interrogation.cad import models, read
+
+            try:
+                surface = read(args.file) if args.file else getattr(models, args.model)()
+            except (OSError, ValueError, ImportError) as exc:
+                _refuse(str(exc))
+        else:
+            surface = surfaces.REGISTRY[args.surface]()
+        bar.update(1)
+        if args.file or args.model:
+            patches = None
+            n = 8 * 2**args.depth * args.resolution + 1
+            bar.update(args.depth)
+            bar.set_postfix_str(f"{len(surface.faces)} faces, each on a {n} x {n} grid")
+            from ..interrogation.faces import fill_normals
+
+            mesh = fill_normals(surface.to_mesh(n, n, curvature_mode=args.curvature, color_map=args.color_map,
+                                                **options))
+            for problem in surface.problems:
+                print(f"note: left out {problem}", file=sys.stderr)
+        elif hasattr(surface, "to_bezier_patches"):
+            patches = surface.to_bezier_patches()
+            for level in range(args.depth):
+                bar.set_postfix_str(f"refining to depth {level + 1}: {4 * len(patches)} patches")
+                patches.refine(1)
+                bar.update(1)
+            bar.set_postfix_str(f"curvature at the corners of {len(patches)} patches")
+            patches.visualize_curvature(args.curvature, args.color_map, **options)
+            mesh = _mesh.patches_mesh(patches, resolution=args.resolution)
+        else:
+            patches = None
+            n = 16 * 2**args.depth * args.resolution + 1
+            bar.update(args.depth)
+            bar.set_postfix_str(f"curvature on a {n} x {n} grid")
+            mesh = _mesh.surface_mesh(surface, n, n, args.curvature, args.color_map, **options)
+        bar.update(1)
+        mesh, lines, legend = _cad_maps(args, surface, mesh)
+        bar.set_postfix_str(f"writing {out.name}")
+        suffix = out.suffix.lower()
+        if suffix == ".png" and legend is not None:
+            render.save(mesh, out, window_size=args.window_size, edges=args.edges, lines=lines,
+                        title=_title(args), camera=args.camera, legend=legend if args.legend else False)
+        elif suffix == ".png":
+            render.save(mesh, out, args.curvature, args.color_map, window_size=args.window_size, edges=args.edges,
+                        title=_title(args), camera=args.camera, map_options=options, legend=args.legend, lines=lines)
+        elif suffix == ".html":
+            render.export_html(mesh, out, show_edges=args.edges, camera=args.camera)
+        elif suffix == ".off":
+            _mesh.write_off(mesh, out)
+        elif suffix == ".bez":
+            if patches is None:
+                what = f"the part {label!r} is" if args.file or args.model else f"surface {label!r} is analytic,"
+                _refuse(f"{what} not made of Bézier patches: no .bez export")
+            _mesh.write_cbez(patches, out)
+        else:
+            mesh.save(str(out))
+        bar.update(1)
+    for w in {str(w.message) for w in caught}:
+        print(f"note: {w}", file=sys.stderr)
+    if not args.quiet:
+        print(f"wrote {out} ({mesh.n_points} points, {time.perf_counter() - start:.2f} s)", file=sys.stderr)
+    return 0
+
+
+def _cad_maps(args, surface, mesh):
+    """--draft, --min-radius and --combs: the mesh recoloured, the lines drawn over it, the legend (None: unchanged)."""
+    from ..interrogation import combs as _combs
+    from ..interrogation import maps as _maps
+    from .legend import draft_legend, radius_legend
+
+    lines, legend = [], None
+    try:
+        if args.draft is not None:
+            mesh = _maps.draft_map(mesh, args.draft)
+            lines.append(_maps.parting_line(mesh))
+            legend = draft_legend()
+        elif args.min_radius is not None:
+            mesh = _maps.radius_map(mesh, args.min_radius)
+            legend = radius_legend(args.min_radius)
+    except ValueError as exc:
+        _refuse(str(exc))
+    if args.combs is not None:
+        if not hasattr(surface, "derivatives"):
+            _refuse("--combs needs a surface (--surface), not a part (--file, --model)")
+        try:
+            found = _combs.border_combs(surface, density=args.comb_density, scale=args.comb_scale, count=args.combs)
+        except ValueError as exc:
+            _refuse(str(exc))
+        lines.append(_combs.comb_lines(found))
+    if not lines:
+        return mesh, None, legend
+    return mesh, lines[0] if len(lines) == 1 else lines[0].merge(lines[1:]), legend
+
+
+#: colour maps that take a range, and the keyword options --vmin / --vmax become
+RANGED_MAPS = {"linear": ("vmin", "vmax"), "dill": ("vmin", "vmax"), "symmetric": (None, "vmax")}
+
+
+def _map_options(args):
+    """--vmin / --vmax as the colour map's options (only for the maps that take a range)."""
+    if args.vmin is None and args.vmax is None:
+        return {}
+    if args.color_map not in RANGED_MAPS:
+        _refuse(f"--vmin/--vmax apply to the colour maps {', '.join(RANGED_MAPS)}; got --color-map {args.color_map}")
+    low, high = RANGED_MAPS[args.color_map]
+    if args.vmin is not None and low is None:
+        _refuse("the symmetric map is centred at 0: give --vmax only (it spans -vmax … vmax)")
+    if args.vmin is not None and args.vmax is not None and not args.vmin < args.vmax:
+        _refuse(f"--vmin must be smaller than --vmax; got {args.vmin:g} and {args.vmax:g}")
+    if args.color_map == "dill" and (args.vmin is None or args.vmax is None):
+        _refuse("Dill's bands need both --vmin and --vmax")
+    options = {}
+    if args.vmin is not None:
+        options[low] = args.vmin
+    if args.vmax is not None:
+        options[high] = args.vmax
+    return options
+
+
+def _title(args):
+    if args.title is False:
+        return None
+    if isinstance(args.title, str):
+        return args.title
+    from .legend import MEASURES
+
+    name, symbol, _unit = MEASURES[args.curvature]
+    label = _label(args)
+    if args.file or args.model:  # a part: each face on n lines (depth means nothing for trimmed faces)
+        resolution = _("{n} lines per face").format(n=8 * 2**args.depth * args.resolution + 1)
+    else:
+        resolution = _("depth {depth}").format(depth=args.depth)
+    if getattr(args, "draft", None) is not None:
+        pull = ", ".join(f"{x:g}" for x in args.draft)
+        return _("{label}: draft angle, pull ({pull}), {resolution}").format(label=label, pull=pull,
+                                                                              resolution=resolution)
+    if getattr(args, "min_radius", None) is not None:
+        return _("{label}: radius of curvature below {r:g}, {resolution}").format(
+            label=label, r=args.min_radius, resolution=resolution)
+    return f"{label}: {name} {symbol}, {args.color_map} map, {resolution}"
+
+
+def _label(args):
+    """What the picture shows: the file's name, the named part or the surface."""
+    return Path(args.file).name if args.file else args.model or args.surface
+
+
+#: named parts for --model (lab.models)
+MODELS = ("bottle", "hammer", "impeller", "linkrods", "shell", "teapot", "terrain", "wing")
