@@ -124,6 +124,7 @@ def build_parser():
 #: The course's commands, in the order a course uses them: verb -> help; each is ``lab.teaching.course.<verb>``, whose
 #: ``main(argv)`` parses the verb's own options.
 VERBS = {
+    "start": N_("copy the exercise notebooks into a folder and open JupyterLab there (self-study)"),
     "exercises": N_("generate exercises/{en,de} and solutions/{en,de} from the bilingual solutions/"),
     "release": N_("write the students' hand-out: exercises and the library without the answers"),
     "collect": N_("collect an assignment from the students' homes, with hand-in times and lateness"),

@@ -613,7 +613,8 @@ def test_named_models_and_a_missing_data_folder(monkeypatch, tmp_path):
     assert lab.models.wing().kinds() == {"BSplineSurface": 4}
     assert lab.models.impeller_path().name == "impeller.igs"
     monkeypatch.setenv("LAB_OCC_DATA", str(tmp_path))
-    with pytest.raises(FileNotFoundError, match="occ/wing.brep: OpenCASCADE's sample part is missing; install"):
+    with pytest.raises(FileNotFoundError, match="occ/wing.brep: OpenCASCADE's sample part is missing. On Debian or "
+                                                "Ubuntu: apt install occt-misc .*set LAB_OCC_DATA"):
         lab.models.wing()
 
 
@@ -927,3 +928,13 @@ def test_faces_lost_to_a_damaged_step_file_are_said(tmp_path):
     (tmp_path / "dir.step").mkdir()
     with pytest.raises(ValueError, match="dir.step: is a folder, not a file"):
         lab.read(tmp_path / "dir.step")
+
+
+def test_without_the_cad_extra_reading_a_part_names_the_extra(tmp_path):
+    """A self-learner who installed the lab without ``[cad]`` read only "No module named 'OCP'"."""
+    (tmp_path / "part.brep").write_text("not read: OpenCASCADE is missing\n")
+    code = ("import sys; sys.modules['OCP'] = None\nimport lab\ntry:\n    lab.read(sys.argv[1])\n"
+            "except ImportError as exc:\n    print(exc)\n")
+    out = subprocess.run([sys.executable, "-c", code, str(tmp_path / "part.brep")], capture_output=True, text=True,
+                         check=True, timeout=300).stdout
+    assert 'needs OpenCASCADE, the extra "cad" of curvature-lab: pip install "curvature-lab[cad]"' in out, out

@@ -40,8 +40,9 @@ def test_the_settings_override_keeps_the_project_settings_and_adds_the_language(
     out = tmp_path / "share" / "overrides.json"
     subprocess.run([sys.executable, str(ROOT / "jupyter" / "settings.py"), lang, str(out)], check=True)
     settings = json.loads(out.read_text())
-    project = json.loads((ROOT / "jupyter" / "overrides.json").read_text())
-    assert settings == {**project, "@jupyterlab/translation-extension:plugin": {"locale": locale}}
+    from lab.teaching.course.start import OVERRIDES
+
+    assert settings == {**OVERRIDES, "@jupyterlab/translation-extension:plugin": {"locale": locale}}
     assert settings["@jupyterlab/apputils-extension:kernels-settings"] == {"commsOverSubshells": "disabled"}
 
 

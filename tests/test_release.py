@@ -120,3 +120,5 @@ def test_release_refuses_a_foreign_folder_and_self_study_keeps_references(tmp_pa
     out = release.release(tmp_path / "self", self_study=True, check=False)
     assert "np.where" in (out / "lab" / "geometry" / "colormaps.py").read_text()
     assert not (out / "solutions").exists() and not (out / "tests").exists()
+    readme = (out / "README.md").read_text()  # it says what it holds, and only that
+    assert "are included and readable" in readme and "withheld" not in readme

@@ -5,11 +5,35 @@
 :mod:`lab.view.style` describes: fitted oblique camera, three-point light that
 keeps the colours true, a title, the colour bar or class legend in curvature
 units (:mod:`lab.view.legend`), padding, optional patch borders.
+
+How pictures are drawn without a window (:func:`configure_offscreen`, called before every picture, scene and
+explorer; the choice is :func:`choose_backend`'s):
+
+* **Windows, macOS, and Linux with a display** (``DISPLAY`` or ``WAYLAND_DISPLAY`` set): VTK's own choice
+  (WGL on Windows, Cocoa on macOS, X on a Linux desktop); nothing is forced.  The Windows wheel has no EGL.
+* **Linux without a display**: EGL (``vtkEGLRenderWindow``) if it works here, else OSMesa
+  (``vtkOSOpenGLRenderWindow``: VTK 9.7's Linux wheel has it and loads ``libOSMesa.so.8``, ``.so.6`` or ``.so``
+  when it is first used; PyPI has no OSMesa build of VTK, the library comes from the system, e.g.
+  ``apt install libosmesa6``).  An explicit ``VTK_DEFAULT_OPENGL_WINDOW`` naming one of the two is tried first;
+  one naming another window is left alone.  Whether a backend works is tested once per process in a child
+  process (load the library with ctypes, then draw an 8 x 8 picture with that window class), because a
+  missing ``libEGL`` or an EGL without a usable driver ends the process that tries it with a segmentation
+  fault (VTK 9.7: "Failed to load EGL!", exit 139; a notebook's kernel dies): a crash of the child is a
+  verdict, never a dead kernel.  The test costs about half a second, once; a backend found working is
+  remembered, one found wanting is tested again next time (install the library, run the cell again).
+* When neither works, :class:`RenderingUnavailable` (a ``RuntimeError``) says so and names what to install
+  (``libegl1 libgl1-mesa-dri`` or ``libosmesa6`` on Debian/Ubuntu, ``mesa-libEGL mesa-dri-drivers`` on
+  Fedora) or to work with a display; the command line prints it as ``curvature-lab: error: …`` and exits 1.
+  :func:`export_html` needs no drawing (vtk.js draws the scene in the browser) and goes on without one.
 """
 
 import dataclasses
 import io
 import os
+import re
+import signal
+import subprocess
+import sys
 
 import numpy as np
 import pyvista as pv
@@ -24,11 +48,14 @@ from .legend import legend as make_legend
 
 __all__ = [
     "VIEW_DIRECTION",
+    "RenderingUnavailable",
+    "choose_backend",
     "configure_offscreen",
     "export_html",
     "face_borders",
     "picture",
     "plot_mesh",
+    "probe_backend",
     "save",
     "screenshot",
     "set_camera",
@@ -38,15 +65,158 @@ __all__ = [
 ]
 
 
-def configure_offscreen():
-    """Render without a display when there is none (EGL, no X server).
+class RenderingUnavailable(RuntimeError):
+    """No way to draw a picture on this machine (Linux without a display, neither EGL nor OSMesa working); the
+    message says why and what to install."""
 
-    Sets ``pyvista.OFF_SCREEN`` and ``VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow``
-    (which silences VTK's "bad X server connection" warning) when ``DISPLAY`` is unset.
+
+#: the offscreen backends that can be forced on Linux without a display: VTK's window class for each
+WINDOWS = {"egl": "vtkEGLRenderWindow", "osmesa": "vtkOSOpenGLRenderWindow"}
+#: the libraries VTK 9.7 loads for each, in its order (glad for EGL; vtkOSOpenGLRenderWindow for OSMesa)
+LIBRARIES = {"egl": ("libEGL.so.1", "libEGL.so"), "osmesa": ("libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so")}
+NAMES = {"egl": "EGL", "osmesa": "OSMesa"}
+#: seconds a test render may take (about 0.5 s on an idle machine, several on a loaded one)
+PROBE_TIMEOUT = 60.0
+
+
+def choose_backend(platform, environ, probe):
+    """How VTK should draw offscreen: ``"native"`` (VTK's own choice, nothing forced), ``"egl"`` or ``"osmesa"``.
+
+    ``platform`` is a ``sys.platform`` value, ``environ`` a mapping like ``os.environ``, ``probe(backend)`` answers
+    ``(works, why)`` for ``"egl"`` and ``"osmesa"`` (:func:`probe_backend`), and is asked only on Linux without a
+    display, EGL first unless ``VTK_DEFAULT_OPENGL_WINDOW`` names OSMesa's window.  Raises
+    :class:`RenderingUnavailable` when no backend works.
     """
+    if not str(platform).startswith("linux"):
+        return "native"  # Windows (WGL), macOS (Cocoa), others: VTK knows best; the Windows wheel has no EGL
+    if environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY"):
+        return "native"  # a desktop: VTK's X window draws the same picture
+    asked = environ.get("VTK_DEFAULT_OPENGL_WINDOW") or ""
+    order = ["egl", "osmesa"]
+    if asked == WINDOWS["osmesa"]:
+        order.reverse()
+    elif asked and asked != WINDOWS["egl"]:
+        return "native"  # someone chose another window on purpose
+    reasons = {}
+    for backend in order:
+        works, why = probe(backend)
+        if works:
+            return backend
+        reasons[backend] = why
+    raise RenderingUnavailable(_unavailable(reasons))
+
+
+def _unavailable(reasons):
+    found = " ".join(f"{NAMES[b]}: {why}." for b, why in reasons.items())
+    return (f"cannot draw pictures on this machine: it is Linux without a display (neither DISPLAY nor "
+            f"WAYLAND_DISPLAY is set), so VTK must draw offscreen with EGL or OSMesa, and neither works. {found} "
+            f"Install EGL with Mesa's drivers (Debian/Ubuntu: sudo apt install libegl1 libgl1-mesa-dri; "
+            f"Fedora: sudo dnf install mesa-libEGL mesa-dri-drivers) or OSMesa (Debian/Ubuntu: "
+            f"sudo apt install libosmesa6), or work in a desktop session with a display; then run it again.")
+
+
+#: the child process of :func:`probe_backend`: argv = window class, library names to try
+_PROBE = """
+import ctypes, sys
+error = None
+for name in sys.argv[2:]:
+    try:
+        ctypes.CDLL(name)
+        break
+    except OSError as exc:
+        error = error or exc
+else:
+    print("missing:", error, flush=True)
+    sys.exit(3)
+print("loaded:", name, flush=True)
+import vtkmodules.vtkRenderingOpenGL2 as gl
+from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+from vtkmodules.vtkRenderingCore import vtkRenderer
+if not hasattr(gl, sys.argv[1]):
+    print("no-class:", flush=True)
+    sys.exit(4)
+window = getattr(gl, sys.argv[1])()
+window.SetOffScreenRendering(1)
+window.SetSize(8, 8)
+renderer = vtkRenderer()
+renderer.SetBackground(1.0, 0.0, 0.0)
+window.AddRenderer(renderer)
+window.Render()
+pixels = vtkUnsignedCharArray()
+window.GetPixelData(0, 0, 7, 7, 1, pixels, 0)
+red = (pixels.GetValue(0), pixels.GetValue(1), pixels.GetValue(2)) == (255, 0, 0)
+window.Finalize()
+print("drew:" if red else "blank:", flush=True)
+"""
+
+
+def _vtk_said(stderr):
+    """VTK's first warning or error in a child's stderr, without colours and log prefix (or "")."""
+    for line in re.sub(r"\x1b\[[0-9;]*m", "", stderr or "").splitlines():
+        if "WARN|" in line or "ERR|" in line:
+            return line.split("|", 1)[1].strip()
+    return ""
+
+
+def probe_backend(backend, *, timeout=PROBE_TIMEOUT):
+    """``(works, why)``: whether VTK draws with ``backend`` (``"egl"`` or ``"osmesa"``) here, tested in a child
+    process (load the library, draw an 8 x 8 red picture, read it back), so that a crash is the child's."""
+    library = LIBRARIES[backend][0]
+    env = {k: v for k, v in os.environ.items() if k != "VTK_DEFAULT_OPENGL_WINDOW"}
+    try:
+        done = subprocess.run([sys.executable, "-c", _PROBE, WINDOWS[backend], *LIBRARIES[backend]], check=False,
+                              env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return False, f"a test render took longer than {timeout:g} s"
+    except OSError as exc:
+        return False, f"could not start a test process ({exc})"
+    out, code, said = done.stdout, done.returncode, _vtk_said(done.stderr)
+    said = f"; VTK said: {said}" if said else ""
+    if code == 0 and "drew:" in out:
+        return True, "drew a test picture"
+    if "missing:" in out:
+        detail = out.split("missing:", 1)[1].strip().splitlines()[0]
+        return False, f"{library} cannot be loaded ({detail})"
+    if "no-class:" in out:
+        return False, f"this VTK has no {WINDOWS[backend]}"
+    if "blank:" in out:
+        return False, f"{library} loads, but a test picture came back blank{said}"
+    if "loaded:" in out and code < 0:
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = f"signal {-code}"
+        return False, f"{library} loads, but a test render crashed with {name}{said}"
+    last = (done.stderr or "").strip().splitlines()[-1:] or [""]
+    return False, f"a test render failed with exit code {code}{said or ('; ' + last[0] if last[0] else '')}"
+
+
+#: backends that drew in this process's lifetime (a failure is not remembered: install, then try again)
+_WORKING = set()
+
+
+def _probe_once(backend):
+    if backend in _WORKING:
+        return True, "drew a test picture"
+    works, why = probe_backend(backend)
+    if works:
+        _WORKING.add(backend)
+    return works, why
+
+
+def configure_offscreen():
+    """Prepare VTK to draw without a window, as :func:`choose_backend` decides for this machine; returns its answer.
+
+    On Linux without a display, sets ``VTK_DEFAULT_OPENGL_WINDOW`` to the window of the backend that works
+    (EGL before OSMesa) or raises :class:`RenderingUnavailable`; elsewhere leaves VTK its own choice.  Sets
+    ``pyvista.OFF_SCREEN`` when ``DISPLAY`` is unset.
+    """
+    backend = choose_backend(sys.platform, os.environ, _probe_once)
+    if backend in WINDOWS:
+        os.environ["VTK_DEFAULT_OPENGL_WINDOW"] = WINDOWS[backend]
     if not os.environ.get("DISPLAY"):
-        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
         pv.OFF_SCREEN = True
+    return backend
 
 
 def plot_mesh(mesh, plotter, *, show_edges=False, scalars=None, cmap="viridis", **kwargs):
@@ -411,7 +581,10 @@ def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=N
 
 def export_html(mesh, path, *, show_edges=False, camera=None):
     """Write an interactive HTML scene (vtk.js via trame) of ``mesh``, with the lab's camera and light."""
-    configure_offscreen()
+    try:
+        configure_offscreen()
+    except RenderingUnavailable:
+        pass  # the scene is drawn by vtk.js in the browser: nothing is drawn here
     plotter = pv.Plotter(off_screen=True, lighting="none")
     plot_mesh(mesh, plotter, show_edges=show_edges)
     style.apply_lights(plotter)

@@ -2,7 +2,9 @@
 surface, a part read from a file or a named part, refined and coloured by its exact curvature (or by the draft angle,
 the smallest radius of curvature, with curvature combs), written as a picture (PNG, with title and legend), an
 interactive scene (HTML), a mesh (VTK/VTP, geomview OFF) or coloured Bézier patches for geomview (BEZ), with progress
-on stderr.  What cannot be done raises :class:`UsageError`, which the command line shows as a usage error.
+on stderr.  What cannot be done raises :class:`UsageError`, which the command line shows as a usage error.  A machine
+that cannot draw (:class:`lab.view.render.RenderingUnavailable`) is found out before the work for a picture starts:
+``curvature-lab: error: …`` on stderr, exit status 1, nothing written.
 """
 
 import sys
@@ -50,6 +52,12 @@ def run(args):
         _refuse("--draft and --min-radius are two colourings: give one of them")
     if args.file and args.model:
         _refuse("--file and --model both name a part: give one of them")
+    if out.suffix.lower() == ".png":
+        try:  # whether this machine can draw at all, before the work (Linux without EGL: never a segmentation fault)
+            render.configure_offscreen()
+        except render.RenderingUnavailable as exc:
+            print(f"curvature-lab: error: {exc}", file=sys.stderr)
+            return 1
     start = time.perf_counter()
     steps = 3 + args.depth
     label = _label(args)

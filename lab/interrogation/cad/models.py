@@ -27,8 +27,10 @@ def sample(name):
 
     path = occ_data() / name
     if not path.is_file():
-        raise FileNotFoundError(_("{path}: OpenCASCADE's sample part is missing; install Debian's occt-misc "
-                                  "(make setup does) or set LAB_OCC_DATA to OCCT's data folder").format(path=path))
+        raise FileNotFoundError(_("{path}: OpenCASCADE's sample part is missing. On Debian or Ubuntu: apt install "
+                                  "occt-misc (make setup does). Elsewhere: download OpenCASCADE's source (its data "
+                                  "folder holds occ/, iges/ and step/) and set LAB_OCC_DATA to that data folder. "
+                                  "lab.models.teapot() needs neither").format(path=path))
     return read(path)
 
 

@@ -62,8 +62,8 @@ def require_ocp():
         import OCP  # noqa: F401
     except ImportError:
         raise ImportError(
-            "reading STEP, IGES and BREP files needs OpenCASCADE: pip install -e '.[cad]' "
-            "(the package cadquery-ocp-novtk); make setup installs it"
+            'reading and writing STEP, IGES and BREP files needs OpenCASCADE, the extra "cad" of curvature-lab: '
+            'pip install "curvature-lab[cad]" (in a checkout: pip install -e ".[cad]", which make setup does)'
         ) from None
 
 
@@ -499,6 +499,7 @@ def read_occ(path, name=None, sew=None, orient=False):
         IGES files, whose faces carry no orientation.  Sews (as ``sew`` says) during the read and sets each
         ``Face.reversed`` from the oriented shells; ``model.turned`` says how many faces it turned.
     """
+    require_ocp()
     from OCP.BRep import BRep_Tool
 
     from .sewing import _shared_edges, orient_shells

@@ -61,6 +61,7 @@ from pathlib import Path
 import nbformat
 
 from ... import repository
+from .files import NotACourseRepository, course_repository
 
 __all__ = [
     "LANGUAGES",
@@ -378,6 +379,8 @@ def generate(sources=_ROOT / "solutions", exercises=_ROOT / "exercises", solutio
     """
     sources, exercises = Path(sources), Path(exercises)
     solutions = sources if solutions is None else Path(solutions)
+    if not any(sources.glob("[0-9][0-9]_*.ipynb")):  # nothing to generate is no success
+        raise SourceError(f"no bilingual source notebooks (NN_*.ipynb) in {sources}")
     plan, edited, incomplete = {}, [], []
     for src in sorted(sources.glob("[0-9][0-9]_*.ipynb")):
         source = _read(src)
@@ -424,11 +427,13 @@ def main(argv=None):
     parser.add_argument("--check", action="store_true", help="only report notebooks that differ; exit 1 if any")
     args = parser.parse_args(argv)
     try:
+        if args.solutions == str(_ROOT / "solutions"):  # the default: the course repository's
+            course_repository("exercises")
         result = generate(args.solutions, args.exercises, languages=tuple(args.lang or LANGUAGES),
                           check_only=args.check)
-    except (StudentChangesError, SourceError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
+    except (StudentChangesError, SourceError, NotACourseRepository) as exc:
+        print(f"curvature-lab exercises: error: {exc}", file=sys.stderr)
+        return 2 if isinstance(exc, NotACourseRepository) else 1
     for path, action in result.items():
         print(f"{action:9s} {path}")
     return 1 if args.check and any(a == "differs" for a in result.values()) else 0

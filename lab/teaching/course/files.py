@@ -10,10 +10,11 @@ import os
 import threading
 from pathlib import Path
 
+from ... import library, repository
 from ..untrusted import csv_rows
 
-__all__ = ["COLLECTED_COLUMNS", "SUMMARY_COLUMNS", "one_per_student", "read_collected", "read_summary",
-           "summary_rows", "write_atomic"]
+__all__ = ["COLLECTED_COLUMNS", "SUMMARY_COLUMNS", "NotACourseRepository", "course_repository", "one_per_student",
+           "read_collected", "read_summary", "summary_rows", "write_atomic"]
 
 #: The columns of ``SUBS/collected.csv``, written by ``collect``.
 COLLECTED_COLUMNS = ("student", "assignment", "status", "file", "submitted", "modified", "changed", "first_seen",
@@ -21,6 +22,23 @@ COLLECTED_COLUMNS = ("student", "assignment", "status", "file", "submitted", "mo
 #: The columns of ``REPORTS/summary.csv``, written by ``grade``.
 SUMMARY_COLUMNS = ("student", "notebook", "score", "max_score", "passed", "assignment", "seed", "tasks", "error",
                    "submitted", "late", "late_seconds", "notes", "missing_protections")
+
+
+class NotACourseRepository(RuntimeError):
+    """A course command run where there is no course repository (the lab installed with pip)."""
+
+
+def course_repository(verb):
+    """The course repository the lab runs from (a checkout with ``solutions/`` and ``pyproject.toml``), for the
+    command ``verb``; raises :class:`NotACourseRepository` saying so, and what a self-learner runs instead, where the
+    lab is an installed package."""
+    root = Path(repository())
+    if (root / "solutions").is_dir() and (root / "pyproject.toml").is_file():
+        return root
+    raise NotACourseRepository(
+        f"curvature-lab {verb} works in a course repository (a checkout of curvature-lab, with solutions/ and "
+        f"pyproject.toml); here the lab is an installed package ({library()}). To work on the exercises, run "
+        "curvature-lab start; to run a course, clone the repository and run the command there")
 
 
 def write_atomic(path, text):

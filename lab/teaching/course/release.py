@@ -40,6 +40,7 @@ from ... import repository
 from ...i18n import _
 from ..sandbox import withhold
 from . import exercises as notebooks
+from .files import NotACourseRepository, course_repository
 
 __all__ = ["MARK", "ReleaseError", "main", "release", "solution_lines", "solution_lines_in"]
 
@@ -198,15 +199,21 @@ random cases, with exact answers and a hint that names your mistake. Your instru
 hand in on further fresh cases, in a sandbox. **So funktioniert es:** `check.<aufgabe>(ihre_funktion)` prüft
 Ihre Lösung sofort an neuen Zufallsfällen mit exakten Antworten und einem Hinweis, der den Fehler benennt.
 
-The library's own implementations of the tasks are withheld in this hand-out (their source is not here;
-their compiled code is, so that the pictures and explorers work). / *Die Musterlösungen der Bibliothek sind
-in dieser Ausgabe zurückgehalten.*
+{library}
 
 Feedback on graded work appears in `~/feedback/<assignment>.html`. / *Rückmeldungen zu bewerteten Abgaben
 erscheinen in `~/feedback/<aufgabe>.html`.*
 
 Hand-out of {date}{build}.
 """
+
+#: What the README says of the library: a course's hand-out withholds the answers, a self-learner's keeps them.
+WITHHELD = """The library's own implementations of the tasks are withheld in this hand-out (their source is not here;
+their compiled code is, so that the pictures and explorers work). / *Die Musterlösungen der Bibliothek sind
+in dieser Ausgabe zurückgehalten.*"""
+SELF_STUDY = """This hand-out is for self-study: the library's own implementations of the tasks are included and readable
+(look at them after you have written yours; the checks block them while they test your code). / *Diese Ausgabe ist
+für das Selbststudium: die Musterlösungen der Bibliothek sind enthalten und lesbar.*"""
 
 MAKEFILE = """# The students' hand-out: `make lab` (set up, then JupyterLab on exercises/en) or `make lab LANG=de`.
 include jupyter/setup.mk
@@ -215,6 +222,7 @@ include jupyter/setup.mk
 
 def release(out, *, self_study=False, pythons=(sys.executable,), git=False, check=True):
     """Write the hand-out into ``out`` (see the module docstring); returns ``out``."""
+    course_repository("release")
     if check:
         _check_exercises()
     out = _prepare(out)
@@ -227,7 +235,8 @@ def release(out, *, self_study=False, pythons=(sys.executable,), git=False, chec
     tags = _library(out, self_study, list(pythons))
     (out / "Makefile").write_text(MAKEFILE)
     build = " (self-study: the library's references included)" if self_study else f", compiled for {', '.join(tags)}"
-    (out / "README.md").write_text(README.format(table=_titles(), date=datetime.date.today().isoformat(), build=build))
+    (out / "README.md").write_text(README.format(table=_titles(), date=datetime.date.today().isoformat(), build=build,
+                                                 library=SELF_STUDY if self_study else WITHHELD))
     (out / ".gitignore").write_text(".venv/\n*.egg-info/\n.ipynb_checkpoints/\n")
     (out / MARK).write_text(json.dumps({"self_study": self_study, "python": tags,
                                         "date": datetime.datetime.now().isoformat(timespec="seconds")}) + "\n")
@@ -267,7 +276,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     try:
         out = release(args.out, self_study=args.self_study, pythons=args.pythons or [sys.executable], git=args.git)
-    except (ReleaseError, notebooks.StudentChangesError, notebooks.SourceError, OSError) as exc:
+    except (ReleaseError, notebooks.StudentChangesError, notebooks.SourceError, NotACourseRepository, OSError) as exc:
         print(f"curvature-lab release: error: {exc}", file=sys.stderr)
         return 2
     print(_("wrote the hand-out to {out}").format(out=out))

@@ -10,9 +10,11 @@ size before anything is compared).  Errors become a status and a message (:func:
 import contextlib
 import linecache
 import math
+import os
 import signal
 import sys
 import threading
+import time
 import traceback
 
 import numpy as np
@@ -52,14 +54,41 @@ class TimeUp(BaseException):
     """Raised in student code at the time limit (a BaseException, so ``except Exception`` does not hide it)."""
 
 
-@contextlib.contextmanager
 def time_limit(seconds):
-    """Interrupt the block after ``seconds`` with :class:`TimeUp` (main thread only; cooperative: the grader
-    also enforces limits from outside, because code that catches BaseException can ignore this one)."""
-    if seconds is None or threading.current_thread() is not threading.main_thread():
-        yield
-        return
+    """A context manager that interrupts its block after ``seconds`` with :class:`TimeUp` (no limit for ``None``).
 
+    The same on every platform: a student's endless loop stops with :class:`TimeUp` after ``seconds``.  Two ways,
+    chosen by what the platform has (feature detection, so a test can take the signals away on Linux):
+
+    * **SIGALRM** (Linux, macOS), in the main thread: a real-time timer (``setitimer``) whose handler raises
+      :class:`TimeUp`.  A blocking system call (``time.sleep``, waiting for input) is interrupted at once.
+    * **a watchdog thread** everywhere else (Windows, which has no SIGALRM; and any thread that is not the main
+      thread, where no signal can go): one sleeping daemon thread per process that at the limit raises
+      :class:`TimeUp` in the block's thread (``PyThreadState_SetAsyncExc``).  Python delivers such an exception
+      only between two bytecodes, so a block stuck in one long call into C that waits (``time.sleep(100)``, a
+      blocking read, ``input()``) stops only when that call returns, and then with the same message.  (A long
+      computation in C, e.g. one huge numpy operation, is the same with SIGALRM: its handler, too, runs only once
+      the call returns.)
+
+    Both are cooperative: code that catches BaseException can ignore the stop, so the grader also enforces its
+    limits from outside.  Without either (an interpreter with no ``ctypes.pythonapi``) the block runs unlimited.
+    """
+    if seconds is None:
+        return contextlib.nullcontext()
+    if threading.current_thread() is threading.main_thread() and _has_alarm():
+        return _alarm(seconds)
+    if _set_async_exc is not None:
+        return _WatchdogLimit(seconds)
+    return contextlib.nullcontext()
+
+
+def _has_alarm():
+    return all(hasattr(signal, name) for name in ("SIGALRM", "setitimer", "ITIMER_REAL"))
+
+
+@contextlib.contextmanager
+def _alarm(seconds):
+    """The time limit by SIGALRM (main thread only)."""
     def handler(signum, frame):
         raise TimeUp()
 
@@ -70,6 +99,123 @@ def time_limit(seconds):
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old)
+
+
+def _async_exc_functions():
+    """``PyThreadState_SetAsyncExc`` twice: to raise an exception class in a thread, and to clear one not yet raised
+    (NULL, which a ``py_object`` argument cannot pass); ``(None, None)`` where the C API is not reachable (not
+    CPython).  Own prototypes, so that nobody else's ``argtypes`` on ``ctypes.pythonapi`` changes these calls."""
+    try:
+        import ctypes
+
+        api = ctypes.pythonapi
+        raise_ = ctypes.PYFUNCTYPE(ctypes.c_int, ctypes.c_ulong, ctypes.py_object)(("PyThreadState_SetAsyncExc", api))
+        clear = ctypes.PYFUNCTYPE(ctypes.c_int, ctypes.c_ulong, ctypes.c_void_p)(("PyThreadState_SetAsyncExc", api))
+    except (ImportError, AttributeError, OSError):
+        return None, None
+    return raise_, clear
+
+
+_set_async_exc, _clear_async_exc = _async_exc_functions()
+
+
+class _Limit:
+    """One armed limit: the thread to stop, when, and whether the watchdog has raised in it."""
+
+    __slots__ = ("deadline", "fired", "thread_id")
+
+    def __init__(self, thread_id, deadline):
+        self.thread_id, self.deadline, self.fired = thread_id, deadline, False
+
+
+class _Watchdog:
+    """One daemon thread for the process that raises :class:`TimeUp` in each thread whose limit has passed.
+
+    It sleeps until the earliest armed deadline and is woken only when a sooner one is armed, so a check's cases
+    cost it nothing: arming and disarming a limit take a lock and touch a set, no thread is started or waited for.
+    """
+
+    def __init__(self):
+        self._cond = threading.Condition(threading.Lock())
+        self._limits = set()
+        self._wake_at = math.inf  # the deadline the thread sleeps towards
+        threading.Thread(target=self._run, name="lab time limit", daemon=True).start()
+
+    def _run(self):
+        with self._cond:
+            while True:
+                now = time.monotonic()
+                for limit in [limit for limit in self._limits if limit.deadline <= now]:
+                    self._limits.discard(limit)
+                    limit.fired = True
+                    if _set_async_exc(limit.thread_id, TimeUp) > 1:  # cannot happen for one live id; the API says undo
+                        _clear_async_exc(limit.thread_id, None)
+                self._wake_at = min((limit.deadline for limit in self._limits), default=math.inf)
+                self._cond.wait(None if self._wake_at == math.inf else self._wake_at - now)
+
+    def arm(self, seconds):
+        limit = _Limit(threading.get_ident(), time.monotonic() + seconds)
+        with self._cond:
+            self._limits.add(limit)
+            if limit.deadline < self._wake_at:
+                self._cond.notify()
+        return limit
+
+    def disarm(self, limit):
+        with self._cond:
+            self._limits.discard(limit)  # from here on the watchdog raises nothing in this block's thread
+        if limit.fired:
+            _clear_async_exc(limit.thread_id, None)  # raised but not yet delivered: dropped
+
+
+_watchdog = None
+_watchdog_lock = threading.Lock()
+
+
+def _the_watchdog():
+    global _watchdog  # one watchdog thread per process, started on first use
+    with _watchdog_lock:
+        if _watchdog is None:
+            _watchdog = _Watchdog()
+        return _watchdog
+
+
+def _forget_watchdog():
+    global _watchdog, _watchdog_lock  # a forked child has no watchdog thread: it starts its own
+    _watchdog, _watchdog_lock = None, threading.Lock()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_watchdog)
+
+
+class _WatchdogLimit:
+    """The time limit by the watchdog thread (see :func:`time_limit`), for the calling thread.
+
+    The race between the limit and the block's end: the watchdog raises only while the limit is armed (under its
+    lock), and the end clears an exception it raised that Python has not delivered yet, so nothing is raised after
+    the block.  One that is delivered while the end is being handled is swallowed: the block's own result (a value
+    or its exception) stands, as the block finished before the stop reached it.  Not meant to be nested in one
+    thread (an inner block's end would also clear an outer limit's undelivered stop).
+    """
+
+    def __init__(self, seconds):
+        self._seconds = seconds
+        self._watchdog = self._limit = None
+
+    def __enter__(self):
+        self._watchdog = _the_watchdog()
+        self._limit = self._watchdog.arm(self._seconds)
+        return self
+
+    def __exit__(self, *exc_info):
+        while True:
+            try:
+                self._watchdog.disarm(self._limit)  # idempotent: repeated when a pending TimeUp interrupts it
+                break
+            except TimeUp:
+                continue
+        return False
 
 
 # -- plain numbers ------------------------------------------------------------------------------
