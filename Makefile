@@ -10,7 +10,7 @@ TEST_STAMP := $(VENV)/.installed-test
 # and Xvfb for the test that Debian's geomview shows the practical's CBEZ333 export (tests/test_geomview.py).
 TEST_APT_PACKAGES := chromium bubblewrap libseccomp2 geomview xvfb
 
-.PHONY: test benchmarks exercises translations docs
+.PHONY: test benchmarks exercises translations docs site site-po
 
 # The test set-up adds the test tools (pytest, Playwright, JupyterHub, potpourri3d …) and configurable-http-proxy
 # (npm) for the JupyterHub test.
@@ -21,7 +21,7 @@ $(TEST_STAMP): $(STAMP)
 	@touch $(TEST_STAMP)
 
 test: EXTRA_APT = $(TEST_APT_PACKAGES)
-test: system-deps $(TEST_STAMP)
+test: system-deps $(TEST_STAMP) site
 	$(VENV)/bin/ruff check .
 	$(PY) jupyter/settings.py en $(OVERRIDES)
 	$(PY) -m pytest -n 2 --dist loadgroup --durations=12
@@ -42,6 +42,24 @@ translations: $(TEST_STAMP)
 # Redraw every picture in docs/ (README pictures and docs/gallery/), deterministically.
 docs: setup
 	$(PY) -m lab.view.gallery
+
+# The documentation site, both languages, offline (MathJax from npm), warnings are errors: docs/_build/html and
+# docs/_build/html/de.  The German catalogues are docs/locales/de (make site-po after changing an English page).
+DOCS_STAMP := $(VENV)/.installed-docs
+MATHJAX := $(VENV)/node/node_modules/mathjax/es5/tex-chtml.js
+SPHINX := $(VENV)/bin/sphinx-build -W --keep-going -q
+$(DOCS_STAMP): $(STAMP)
+	$(PIP) install -q $(PIP_CONSTRAINTS) -e ".[docs]"
+	@touch $(DOCS_STAMP)
+$(MATHJAX):
+	mkdir -p $(VENV)/node && cd $(VENV)/node && npm install --silent --no-fund --no-audit mathjax@3
+site: $(DOCS_STAMP) $(MATHJAX)
+	rm -rf docs/_build/html docs/_build/doctrees
+	$(SPHINX) -b html -d docs/_build/doctrees docs docs/_build/html
+	$(SPHINX) -b html -d docs/_build/doctrees-de -D language=de -t de docs docs/_build/html/de
+site-po: $(DOCS_STAMP) $(MATHJAX)
+	$(VENV)/bin/sphinx-build -q -b gettext docs docs/_build/gettext
+	$(VENV)/bin/sphinx-intl update -p docs/_build/gettext -l de -d docs/locales
 
 benchmarks: system-deps $(TEST_STAMP)
 	$(PY) benchmarks/curvature.py

@@ -1,7 +1,7 @@
 """Benchmark: fans of geodesics and normal sections, vectorised against one ``solve_ivp`` per path.
 
 The main case is the one of the issue: a fan of 80 geodesics of the paper's
-length on the practical's surface.  ``seeds/003`` draws 80 paths with
+length on the practical's surface.  Puig-Pey et al. draw 80 paths with
 distances up to s_L = 4.5 (figure 1) and starts its geodesics at the relative
 position (0.7, 0.3) of the domain (figure 2); on the practical's domain
 [0, 7]² that is (u, v) = (4.9, 2.1).  The further rows are the paper's own

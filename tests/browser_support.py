@@ -1,4 +1,4 @@
-"""Drive a real JupyterLab in headless Chromium (Playwright), as DESIGN.md describes."""
+"""Drive a real JupyterLab in headless Chromium (Playwright), as the developers' guide describes (docs/developers/runtime.md)."""
 
 import contextlib
 import io

@@ -1,4 +1,4 @@
-"""The public API of DESIGN.md, which notebooks and tests rely on."""
+"""The public API (the library reference of the documentation), which notebooks and tests rely on."""
 
 import numpy as np
 import sympy as sp

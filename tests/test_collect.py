@@ -204,3 +204,27 @@ def test_the_walk_keeps_its_bounds_and_never_follows_a_link(tmp_path):
     assert rows["link"]["status"] == "missing"
     assert rows["ok"]["status"] == "collected" and rows["ok"]["sha256"] == _sha(data)
     assert rows["ok"]["file"] == str(shallow.relative_to(homes / "ok"))
+
+
+def test_the_copy_a_student_worked_on_is_collected_not_the_untouched_other_language(tmp_path):
+    """The hand-out has each exercise in English and German; a student who works in German leaves the English copy as
+    handed out, and it is newer (the hand-out was pulled after the work was saved).  The edited copy is collected,
+    the untouched one noted; with both changed, the one saved last."""
+    exercises = collect.DEFAULT_FOLDER
+    home = tmp_path / "homes" / "uli" / "curvature-lab-student" / "exercises"
+    for lang in ("en", "de"):
+        (home / lang).mkdir(parents=True)
+        (home / lang / f"{ID}.ipynb").write_bytes((exercises / lang / f"{ID}.ipynb").read_bytes())
+    german = nbformat.read(str(home / "de" / f"{ID}.ipynb"), as_version=4)
+    german.cells[-1].source += "\n# meine Antwort"
+    nbformat.write(german, str(home / "de" / f"{ID}.ipynb"))
+    os.utime(home / "de" / f"{ID}.ipynb", (PAST.timestamp(),) * 2)  # saved long before the English copy
+    path, _raw, nb, notes = collect.find_notebook(tmp_path / "homes" / "uli", ID)
+    assert path == home / "de" / f"{ID}.ipynb" and nb.cells[-1].source.endswith("# meine Antwort")
+    assert notes == [("also found, not collected (as handed out, saved earlier or matched by file name only): "
+                      f"curvature-lab-student/exercises/en/{ID}.ipynb")]
+    english = nbformat.read(str(home / "en" / f"{ID}.ipynb"), as_version=4)
+    english.cells[-1].source += "\n# my answer"
+    nbformat.write(english, str(home / "en" / f"{ID}.ipynb"))  # both changed: the one saved last
+    path, *_ = collect.find_notebook(tmp_path / "homes" / "uli", ID)
+    assert path == home / "en" / f"{ID}.ipynb"

@@ -49,7 +49,7 @@ def test_dill_five_bands_of_figure_6():
     np.testing.assert_array_equal(cm.dill([0.5, 1.0, 1.5], vmin=0, vmax=2), [lookup["turquoise"], lookup["green"], lookup["yellow"]])
     with pytest.raises(ValueError, match="dill needs vmin < vmax"):
         cm.dill([0.0], vmin=1, vmax=1)
-    # the names: Dill's table (seeds/000, figure 6) read off band by band, and scaled by a = 12.5
+    # the names: Dill's table (Dill 1981, figure 6) read off band by band, and scaled by a = 12.5
     assert list(cm.dill_names(values)) == names
     assert list(cm.dill_names([-0.009, 0.009, 0.011, -0.011])) == ["yellow", "yellow", "red", "green"]
     a = 12.5

@@ -64,8 +64,8 @@ def test_the_hub_logs_people_in_over_https():
     assert v["proxy"]["https"]["hosts"][0] in oauth["oauth_callback_url"]
     text = (DEPLOY / "values.yaml").read_text()
     assert "helm repo add jupyterhub https://hub.jupyter.org/helm-chart/" in text and f"--version {CHART}" in text
-    readme = (ROOT / "README.md").read_text()
-    assert "helm repo add jupyterhub https://hub.jupyter.org/helm-chart/" in readme and f"--version {CHART}" in readme
+    guide = (ROOT / "docs" / "instructors" / "hub.md").read_text()  # the instructors' page on the hub
+    assert "helm repo add jupyterhub https://hub.jupyter.org/helm-chart/" in guide and f"--version {CHART}" in guide
 
 
 def _stages(dockerfile):
@@ -118,7 +118,7 @@ def test_git_holds_no_wheel_and_ignores_course_data():
 
 
 def test_the_handout_is_what_nbgitpuller_hands_out():
-    text = (DEPLOY / "nbgitpuller.md").read_text()
+    text = (ROOT / "docs" / "instructors" / "handout.md").read_text()
     assert "curvature-lab release" in text and "--git" in text
     assert "solutions" in text  # it says why never the course repository
     for link in re.findall(r"https://HUB/hub/user-redirect/git-pull\?\S+", text):

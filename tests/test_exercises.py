@@ -31,12 +31,6 @@ def test_committed_notebooks_are_freshly_generated():
     assert list((ROOT / "exercises").glob("*.ipynb")) == [], "exercises live in exercises/en and exercises/de"
 
 
-@pytest.mark.parametrize("path", SOURCES, ids=lambda p: p.stem)
-def test_no_notebook_cites_an_internal_path(path):
-    """The papers are cited by author, title and section, never by the repository's ``seeds/…`` file names (which a
-    student's hand-out does not have)."""
-    cited = [line.strip()[:80] for cell in read(path).cells for line in cell.source.splitlines() if "seeds/" in line]
-    assert not cited, f"{path.name} cites internal paths: {cited}"
 
 
 @pytest.mark.parametrize("path", SOURCES, ids=lambda p: p.stem)

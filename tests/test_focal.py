@@ -1,4 +1,4 @@
-"""Focal surfaces, focal sheets and parabolic lines (lab.focal, lab.interrogation; seeds/002 section 4)."""
+"""Focal surfaces, focal sheets and parabolic lines (lab.focal, lab.interrogation; Choi & Lee, §4)."""
 
 import warnings
 

@@ -1,4 +1,4 @@
-"""Normal sections, geodesics and polar isodistance curves (lab.geodesics, seeds/003)."""
+"""Normal sections, geodesics and polar isodistance curves (lab.geodesics, Puig-Pey et al.)."""
 
 import numpy as np
 import pytest
@@ -140,7 +140,7 @@ def test_isodistance_on_a_plane_circles_closed_and_open():
     np.testing.assert_allclose(r[::8], 0.4, atol=1e-10)
     # ...and between them interpolates a circle in alpha: cubic-spline error O((2 pi / 32)^4)
     np.testing.assert_allclose(r, 0.4, atol=2e-4 * 0.4)
-    # it is the periodic cubic spline in alpha through the nodes' parameters (seeds/003 section 5)
+    # it is the periodic cubic spline in alpha through the nodes' parameters (Puig-Pey et al., §5)
     nodes = np.array([p.at(0.4)[0] for p in fan] + [fan[0].at(0.4)[0]])
     spline = CubicSpline(np.r_[fan.angles, 2 * np.pi], nodes, bc_type="periodic")
     np.testing.assert_allclose(closed.uv, spline(closed.angles), atol=1e-13)

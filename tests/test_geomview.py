@@ -1,5 +1,5 @@
 """The practical's last step: the geomview export is read back and shown in the notebook, and Debian's geomview
-loads it (a snapshot under Xvfb, DESIGN.md "Runtime facts added 2026-12-02")."""
+loads it (a snapshot under Xvfb; the developers' guide, docs/developers/runtime.md)."""
 
 import shutil
 import subprocess
@@ -100,7 +100,7 @@ def test_debian_geomview_shows_the_coloured_export(coloured, tmp_path, display):
     coloured.write_cbez(bez)
     snap = tmp_path / "snap.ppm"
     script = tmp_path / "show.gcl"
-    # commands given with -c run before the camera exists; a script file runs after (DESIGN.md)
+    # commands given with -c run before the camera exists; a script file runs after (docs/developers/runtime.md)
     script.write_text(f'(load "{bez}") (sleep-for 2) (look) (sleep-for 1) '
                       f'(snapshot focus "{snap}" ppmscreen) (sleep-for 1) (exit)\n')
     env = {"DISPLAY": display, "PATH": "/usr/bin:/bin", "HOME": str(tmp_path)}

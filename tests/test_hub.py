@@ -105,7 +105,7 @@ def _git(cwd, *args):
 
 @pytest.mark.skipif(shutil.which("git") is None, reason="git is missing")
 def test_exercises_handed_out_with_nbgitpuller_never_overwrite_edits(hub, tmp_path):
-    """The nbgitpuller link of deploy/nbgitpuller.md: the first click clones, a later one pulls the instructor's
+    """The nbgitpuller link of the instructors' guide (docs/instructors/handout.md): the first click clones, a later one pulls the instructor's
     new commits, and a notebook the student edited keeps the student's version."""
     from playwright.sync_api import sync_playwright
 

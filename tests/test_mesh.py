@@ -202,7 +202,7 @@ def test_sine_wave_is_shaded_without_a_streak():
 
 
 def test_color_cells_colours_each_polygon_by_the_mean_of_its_vertices():
-    """Dill's polygons (seeds/000, "Image generation"): values averaged over the vertices, then the colour table."""
+    """Dill's polygons (Dill 1981, "Image generation"): values averaged over the vertices, then the colour table."""
     t = surfaces.torus(2.0, 1.0)
     m = M.surface_mesh(t, 67, 67)  # 66 cells around the tube: the rims u = 1/4, 3/4 run through cell centres
     flat = M.color_cells(m, "gaussian", "dill")

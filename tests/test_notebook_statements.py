@@ -71,20 +71,23 @@ def test_05_refine_works_in_place():
 
 def test_05_the_ranges_the_text_and_the_readme_state():
     """05: the bump's top is the largest H and K at the corners of depth 1 and 3, not from depth 4 on (the
-    surface's maximum lies between those corners); the README's caption states the depth-1 range."""
+    surface's maximum lies between those corners); the picture's caption (lab.view.gallery: the README's and the
+    site's) states the depth-1 range."""
     out = run_cells("05_visualize_curvature.ipynb", ["53d32008", "5ca1e5d0"])["5ca1e5d0"]
     ranges = {}
     for line in out.splitlines():
         depth, kmin, kmax, hmin, hmax = re.match(
             r"depth (\d): K from (\S+) to (\S+), H from (\S+) to (\S+)$", line).groups()
         ranges[int(depth)] = tuple(float(x) for x in (kmin, kmax, hmin, hmax))
-    top_h = 6.08  # the practical's value at the bump's top (seeds/README.md), the intro's H ≈ +6.08
+    top_h = 6.08  # the practical's value at the bump's top (the practical's course program), the intro's H ≈ +6.08
     assert abs(ranges[1][3] - top_h) < 0.01 and abs(ranges[3][3] - top_h) < 0.01
     assert ranges[1][1] == ranges[3][1] and ranges[4][1] > ranges[3][1] + 10 and ranges[4][3] > top_h + 1
-    readme = (ROOT / "README.md").read_text()
-    caption = re.search(r"the bump's top \(K ≈ (\d+) at the corners\).*?K\s+from (\S+) to (\S+), is blue", readme,
+    from lab.view.gallery import PICTURES
+
+    text = next(caption for name, _options, caption in PICTURES if name == "practical_gaussian_linear.png")
+    caption = re.search(r"the bump's top \(K ≈ (\d+) at the corners\).*?K\s+from (\S+) to (\S+), is blue", text,
                         re.DOTALL)
-    assert caption, "the README's caption of the practical's picture"
+    assert caption, "the caption of the practical's picture"
     assert int(caption.group(1)) == round(ranges[1][1])
     assert float(caption.group(2).replace("−", "-")) == round(ranges[1][0], 1)
 

@@ -1,4 +1,4 @@
-"""Stripe mapping, reflection lines and isophotes (lab.reflection, lab.interrogation; seeds/002 section 3)."""
+"""Stripe mapping, reflection lines and isophotes (lab.reflection, lab.interrogation; Choi & Lee, §3)."""
 
 import warnings
 
@@ -42,7 +42,7 @@ def _areas(X, T):
 
 
 def test_reflection_law(rng):
-    # seeds/002 section 3 step 4: R in the plane of N and E, same angle with N; |R| = |E|; sign of N irrelevant
+    # Choi & Lee, §3 step 4: R in the plane of N and E, same angle with N; |R| = |E|; sign of N irrelevant
     E = rng.normal(size=(50, 3))
     N = rng.normal(size=(50, 3))
     N /= np.linalg.norm(N, axis=1, keepdims=True)
@@ -335,7 +335,7 @@ def test_errors():
         I.isophotes("plane")
 
 
-# -- the paper's own facet colouring (seeds/002 section 3, cases 1-3, eqs. 5-7) ---------------------
+# -- the paper's own facet colouring (Choi & Lee, §3, cases 1-3, eqs. 5-7) ---------------------
 
 
 def test_paper_method_on_a_plane_gives_the_exact_straight_stripes():

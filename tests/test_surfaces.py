@@ -30,7 +30,7 @@ def test_practical_is_built_like_the_course_program():
     """The course program: ``[[point(x, y, f(x, y)) for x in range(-5, 5)] for y in range(-5, 5)]``, outer index = u.
 
     So u runs along y, the normal b_u x b_v points down, and at the bump's top
-    H > 0 and k1 > 0 (seeds/README.md: H ~ +6.08, k1 ~ +6.64, N_z ~ -0.89).
+    H > 0 and k1 > 0 (the practical's course program: H ~ +6.08, k1 ~ +6.64, N_z ~ -0.89).
     """
     f = surfaces.practical_height
     course_net = np.array([[(x, y, f(x, y)) for x in range(-5, 5)] for y in range(-5, 5)], dtype=float)

@@ -114,7 +114,7 @@ def test_holes_from_b_splines_and_polylines_together():
 
 
 def test_iso_parameter_nodes_are_vertices():
-    """seeds/002, 2.2: nodes of the iso-parameter grid inside the region, and the loops' crossings with the lines."""
+    """Choi & Lee, §2.2: nodes of the iso-parameter grid inside the region, and the loops' crossings with the lines."""
     s = T.trimmed(surfaces.practical(), T.circle((3.5, 3.5), 3.0, n=16))
     n = 15
     uv, _tri = s.triangulate(n_u=n, n_v=n, min_angle=None)

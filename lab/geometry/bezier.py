@@ -8,7 +8,7 @@ weights of shape ``(..., m+1, n+1)``; it is handled in homogeneous coordinates
 
 .. math:: \mathbf b(u,v) = \sum_{i=0}^m \sum_{j=0}^n \mathbf b_{ij} B_i^m(u) B_j^n(v)
 
-References: the practical (``seeds/001``, section 3) for derivative nets by
+References: the practical's sheet (§3) for derivative nets by
 forward differences; The NURBS Book (Piegl & Tiller), A1.5 (de Casteljau) and
 A4.4 / eq. 4.20 (rational derivatives).
 """

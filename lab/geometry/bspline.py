@@ -11,7 +11,7 @@ vectors alike.
 
 References: The NURBS Book (Piegl & Tiller), A2.1 (span), A2.2 and A2.3
 (basis functions and their derivatives), A5.1 (knot insertion, Boehm's
-algorithm); the practical (``seeds/001``, section 5) for the conversion to
+algorithm); the practical's sheet (§5) for the conversion to
 Bézier patches.  Surfaces are evaluated with these basis functions by
 :mod:`lab.tensor` (in chunks, points grouped by knot spans, grids separably).
 """

@@ -1,10 +1,11 @@
-r"""Colour maps from curvature values to RGB (practical ``seeds/001`` section 4; Dill 1981).
+r"""Colour maps from curvature values to RGB (the practical's sheet, §4; Dill 1981).
 
 The practical colours in two stages: a function :math:`f:\mathbb R\to[0,1]`
 normalises a curvature value and the ramp :math:`h:[0,1]\to[0,1]^3` turns it
 into a colour, blue (small) → green (middle) → red (large):
 
 .. math::
+    :label: colormaps-1
 
     h(x) = \begin{cases} (0, 4x, 1) & 0 \le x \le 0.25\\ (0, 1, 2-4x) & 0.25 < x \le 0.5\\
                           (4x-2, 1, 0) & 0.5 < x \le 0.75\\ (1, 4-4x, 0) & 0.75 < x \le 1\end{cases}

@@ -1,11 +1,12 @@
 r"""Curvature of parametric surfaces from their first and second derivatives.
 
-Orientation as in the practical (``seeds/001``, 2.2 and 2.5):
+Orientation as in the practical's sheet (§2.2 and §2.5):
 :math:`\mathbf N = \mathbf b_u \times \mathbf b_v / \|\mathbf b_u \times \mathbf b_v\|`.
 With the matrices of the first and second fundamental forms (German: *erste und zweite
 Fundamentalform*; the practical calls the matrices *Fundamentalmatrix erster bzw. zweiter Art*)
 
 .. math::
+    :label: curvature-1
 
     \mathbf G = \begin{pmatrix} E & F\\ F & G\end{pmatrix}
               = \begin{pmatrix} \langle b_u,b_u\rangle & \langle b_u,b_v\rangle\\
@@ -14,9 +15,10 @@ Fundamentalform*; the practical calls the matrices *Fundamentalmatrix erster bzw
               = \begin{pmatrix} \langle N,b_{uu}\rangle & \langle N,b_{uv}\rangle\\
                                 \langle N,b_{vu}\rangle & \langle N,b_{vv}\rangle\end{pmatrix}
 
-the Gaussian and mean curvature are (eqs. 3, 4)
+the Gaussian and mean curvature are (the practical's sheet, §2.5)
 
 .. math::
+    :label: curvature-2
 
     K = \frac{eg - f^2}{EG - F^2}, \qquad H = \frac12\,\frac{eG - 2fF + gE}{EG - F^2},
 
@@ -92,7 +94,7 @@ _W5 = _extrapolation_weights(APPROACH_RUNS[0][:5])
 
 
 class DegeneratePointWarning(RuntimeWarning):
-    """Some evaluated points have no tangent plane (|b_u x b_v| = 0)."""
+    """Some evaluated points have no tangent plane (``|b_u x b_v| = 0``)."""
 
 
 def _plain_repr(record):

@@ -10,6 +10,7 @@ has the principal curvatures as eigenvalues; an eigenvector
 give
 
 .. math::
+    :label: directions-1
 
     w^{(1)} = (r + a,\; S_{21}) \text{ or } (S_{12},\; r - a), \qquad
     w^{(2)} = (S_{12},\; -(r + a)) \text{ or } (a - r,\; S_{21}),

@@ -1,6 +1,6 @@
 r"""How smooth is it?  G0, G1 and G2 across knot lines, patch borders and face edges (``lab.continuity``).
 
-The practical's purpose (``seeds/001``): "Die Krümmungsvisualisierung erlaubt eine erste grobe Beurteilung
+The practical's purpose (its sheet, §1): "Die Krümmungsvisualisierung erlaubt eine erste grobe Beurteilung
 der Stetigkeit der zweiten Ableitung von B."  Here that judgement is a number per edge, as CAD systems
 report it (OpenCASCADE's ``LocalAnalysis_SurfaceContinuity``, Rhino's EdgeContinuity/GCon):
 

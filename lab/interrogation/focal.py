@@ -1,6 +1,6 @@
-r"""Generalized focal surfaces and parabolic lines (``seeds/002_…`` section 4).
+r"""Generalized focal surfaces and parabolic lines (Choi & Lee, §4).
 
-Hagen and Hahmann's generalized focal surface (``seeds/002`` eq. 8, reference [14])
+Hagen and Hahmann's generalized focal surface (Choi & Lee, eq. 8, reference [14])
 offsets every point of the surface along its unit normal by a scaled function
 of the principal curvatures,
 
@@ -13,7 +13,7 @@ sign convention (:math:`\kappa` positive where the surface bends towards
 :math:`\mathbf N`) they are the same points for either orientation.
 
 Where the focal surface of the Gaussian curvature meets the surface, K changes
-sign: those are the parabolic lines (``seeds/002`` section 4, area B of colour
+sign: those are the parabolic lines (Choi & Lee, §4, area B of colour
 plate 2), traced as the zero set of K by :func:`parabolic_lines`.
 
 Functions here take plain arrays; :mod:`lab.interrogation` applies them to
@@ -26,7 +26,7 @@ from ..mesh.levels import level_lines
 
 __all__ = ["FOCAL_FUNCTIONS", "focal_function", "focal_points", "focal_sheet", "parabolic_lines"]
 
-#: The curvature functions of ``seeds/002`` section 4 (and the principal curvatures), by name.
+#: The curvature functions of Choi & Lee, §4 (and the principal curvatures), by name.
 #: The names match :class:`lab.CurvatureMode` values.
 FOCAL_FUNCTIONS = {
     "gaussian": lambda k1, k2: k1 * k2,  # K
@@ -63,7 +63,7 @@ def focal_function(function):
 
 
 def focal_points(X, N, k1, k2, scale=1.0, function="mean"):
-    r"""Points of the generalized focal surface (``seeds/002`` eq. 9).
+    r"""Points of the generalized focal surface (Choi & Lee, eq. 9).
 
     .. math:: \mathbf F = \mathbf X + a\, f(\kappa_1, \kappa_2)\, \mathbf N
 
@@ -130,7 +130,7 @@ def parabolic_lines(points, triangles, K, tol):
     runs through them only where it separates elliptic (K > 0) from
     hyperbolic (K < 0) points, so flat or cylindrical regions give no lines
     (see :func:`lab.mesh.levels.level_lines`).  These are the curves along which
-    the focal surface of K meets the surface (``seeds/002`` section 4).
+    the focal surface of K meets the surface (Choi & Lee, §4).
 
     Parameters
     ----------

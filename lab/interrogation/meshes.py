@@ -1,6 +1,6 @@
 """Interrogation of tessellated surfaces: focal surfaces, parabolic lines, stripes, reflection lines, isophotes.
 
-The methods of ``seeds/002_…`` (sections 3 and 4) and the classics they build
+The methods of Choi & Lee (sections 3 and 4) and the classics they build
 on, as PyVista meshes.  Every function accepts
 
 * a :class:`lab.Surface` (tessellated with :func:`lab.mesh.surface_mesh` on a
@@ -235,11 +235,11 @@ def polylines(lines):
     return out
 
 
-# -- focal surfaces (seeds/002 section 4) ------------------------------------------------
+# -- focal surfaces (Choi & Lee, §4) ------------------------------------------------
 
 
 def focal_surface(surface, scale=1.0, function="mean", *, resolution=None):
-    r"""The generalized focal surface (``seeds/002`` eqs. 8, 9).
+    r"""The generalized focal surface (Choi & Lee, eqs. 8, 9).
 
     .. math:: \mathbf F = \mathbf X + a\, f(\kappa_1, \kappa_2)\, \mathbf N
 
@@ -349,7 +349,7 @@ def focal_sheets(surface, *, tol=None, resolution=None, warn=True):
 
 
 def parabolic_lines(surface, *, tol=None, resolution=None):
-    """The parabolic lines (K changes sign), where the focal surface of K crosses the surface (``seeds/002`` section 4).
+    """The parabolic lines (K changes sign), where the focal surface of K crosses the surface (Choi & Lee, §4).
 
     Parameters
     ----------
@@ -376,7 +376,7 @@ def parabolic_lines(surface, *, tol=None, resolution=None):
     return _lines_mesh([((i,), [line]) for i, line in enumerate(lines)], ("line",))
 
 
-# -- reflection (seeds/002 section 3) ------------------------------------------------------
+# -- reflection (Choi & Lee, §3) ------------------------------------------------------
 
 
 def _colors(value, name, count):
@@ -396,7 +396,7 @@ def _colors(value, name, count):
 
 def stripe_mapping(surface, *, n_stripes=8, eye=None, view=None, margin=0.5, axes=_refl.DEFAULT_AXES,
                    colors=_refl.DEFAULT_COLORS, background="white", resolution=None, method="exact", shaded=False):
-    """Reflection mapping of a box of stripes onto the surface, with crisp stripe borders (``seeds/002`` section 3).
+    """Reflection mapping of a box of stripes onto the surface, with crisp stripe borders (Choi & Lee, §3).
 
     The box encloses the surface (its bounding box grown by ``margin`` times
     the diagonal), each face carries ``n_stripes`` coloured stripes alternating
@@ -492,7 +492,7 @@ def stripe_mapping(surface, *, n_stripes=8, eye=None, view=None, margin=0.5, axe
 
 def reflection_lines(surface, direction=(1.0, 0.0, 0.0), count=9, *, spacing=None, plane_normal=(0.0, 0.0, 1.0),
                      height=None, eye=None, view=None, resolution=None):
-    """Reflection lines of a family of parallel light lines (Klass 1980, ``seeds/002`` reference [3]).
+    """Reflection lines of a family of parallel light lines (Klass 1980, Choi & Lee, reference [3]).
 
     ``count`` light lines parallel to ``direction``, ``spacing`` apart, lie in
     a plane with normal ``plane_normal`` at ``height`` beyond the surface's

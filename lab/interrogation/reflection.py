@@ -1,10 +1,10 @@
-r"""Reflection mapping, reflection lines and isophotes on triangle meshes (``seeds/002_…`` section 3).
+r"""Reflection mapping, reflection lines and isophotes on triangle meshes (Choi & Lee, §3).
 
 Everything here works on plain arrays: vertex positions ``X`` (k, 3), unit
 normals ``N`` (k, 3), triangles (t, 3) of vertex indices.  The PyVista front
 end is :mod:`lab.interrogation`.
 
-Reflection (``seeds/002`` section 3, steps ① – ⑦).  With the view vector
+Reflection (Choi & Lee, §3, steps ① – ⑦).  With the view vector
 :math:`\mathbf E = \mathbf e - \mathbf X` from a vertex towards the eye
 :math:`\mathbf e` (or a constant direction for an eye at infinity), the
 reflection vector lies in the plane of :math:`\mathbf N` and :math:`\mathbf E`
@@ -27,7 +27,7 @@ along it (:func:`split_triangles`).  First along the borders between box faces
 (which face a ray leaves the box through), then along the stripe borders of
 each face.  Every output triangle then lies in one stripe of one face.
 
-Reflection lines (Klass 1980, ``seeds/002`` reference [3]) are the curves on
+Reflection lines (Klass 1980, Choi & Lee, reference [3]) are the curves on
 the surface whose reflected view rays meet one of a family of parallel light
 lines; isophotes (Poeschl) are the curves of constant :math:`\mathbf N\cdot\mathbf L`.
 Both are level sets, traced by :func:`lab.mesh.levels.level_lines`.
@@ -85,7 +85,7 @@ DEFAULT_COLORS = (
 
 
 class StripeBox(NamedTuple):
-    """The reflection map of ``seeds/002`` figure 9: an axis-aligned box with stripes on its faces.
+    """The reflection map of Choi & Lee, figure 9: an axis-aligned box with stripes on its faces.
 
     Attributes
     ----------
@@ -159,7 +159,7 @@ def reflect(E, N):
 
     .. math:: \mathbf R = 2 (\mathbf N\cdot\mathbf E)\mathbf N - \mathbf E
 
-    ``seeds/002`` section 3, step ④: R lies in the plane of N and E and makes
+    Choi & Lee, §3, step ④: R lies in the plane of N and E and makes
     the same angle with N as E does.  Independent of the sign of N.
 
     Parameters
@@ -180,7 +180,7 @@ def reflect(E, N):
 
 
 def view_vectors(points, eye=None, view=None):
-    """View vectors ``E`` from each point towards the eye (step ② of ``seeds/002`` section 3).
+    """View vectors ``E`` from each point towards the eye (step ② of Choi & Lee, §3).
 
     Parameters
     ----------
@@ -205,7 +205,7 @@ def view_vectors(points, eye=None, view=None):
 
 
 def stripe_box(points, n_stripes=8, margin=0.5, axes=DEFAULT_AXES, colors=DEFAULT_COLORS, background=(1.0, 1.0, 1.0)):
-    """The box of stripes enclosing ``points`` (``seeds/002`` section 3, first step and figure 9).
+    """The box of stripes enclosing ``points`` (Choi & Lee, §3, first step and figure 9).
 
     Parameters
     ----------
@@ -326,7 +326,7 @@ def split_triangles(A, T, f, mask=None):
     normals and any further per-vertex quantities) are interpolated linearly,
     so that any function that is linear in the columns of ``A`` can be split
     along next.  Orientation is kept.  This is the facet splitting of
-    ``seeds/002`` section 3, cases 2 and 3, with the border located exactly
+    Choi & Lee, §3, cases 2 and 3, with the border located exactly
     (eqs. 5 and 6 with the mapped ratio taken from ``f``).
 
     Parameters
@@ -394,7 +394,7 @@ def split_triangles(A, T, f, mask=None):
 
 
 def stripe_map(points, triangles, normals, box, E):
-    """Split a triangle mesh so that each triangle reflects one stripe of one box face (``seeds/002`` section 3).
+    """Split a triangle mesh so that each triangle reflects one stripe of one box face (Choi & Lee, §3).
 
     Steps ④ – ⑦ per vertex (reflection vector, exit face, stripe coordinate),
     then the facets are split along the face borders (zero sets of

@@ -1,4 +1,4 @@
-r"""Choi and Lee's own facet colouring for the stripe mapping (``seeds/002`` section 3, cases 1–3, eqs. 5–7).
+r"""Choi and Lee's own facet colouring for the stripe mapping (§3, cases 1–3, eqs. 5–7).
 
 :func:`lab.interrogation.reflection.stripe_map` (the library's default)
 splits every facet exactly along the zero sets of the interpolated stripe and

@@ -302,7 +302,7 @@ def color_curvature(mesh, curvature_mode, color_map, **map_options):
 def color_cells(mesh, curvature_mode=None, color_map=None, **map_options):
     """Dill's polygon colours: one colour per cell, from the mean of its vertices' values (returns a copy).
 
-    Dill (``seeds/000``, "Image generation"): "A set of values … is assigned to
+    Dill (1981, "Image generation"): "A set of values … is assigned to
     each polygon by averaging the values at the vertices", and the polygon is
     coloured by that value.  With ``curvature_mode`` and ``color_map`` the mean
     of the cell's vertex curvature is coloured by the map (with

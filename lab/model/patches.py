@@ -1,4 +1,4 @@
-"""The practical's collection of Bézier patches (``seeds/001`` section 5, class ``bezier_patches``).
+"""The practical's collection of Bézier patches (the practical's sheet, §5, class ``bezier_patches``).
 
 The patches are stored as one array of shape ``(N, m+1, n+1, 3)`` so that
 :meth:`BezierPatches.refine` and the curvature at the corners are computed for

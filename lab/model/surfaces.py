@@ -1,4 +1,4 @@
-"""Named example surfaces (factories), from the practical and the papers in ``seeds/``.
+"""Named example surfaces (factories), from the practical and the papers (Dill 1981, Choi & Lee, Puig-Pey et al. 2002).
 
 Every factory returns a surface object with the common interface of
 :class:`lab.Surface`; the free-form ones (Bézier, B-spline, NURBS) also have
@@ -48,7 +48,7 @@ def practical_height(x, y):
 def practical():
     """The example surface of the practical, built exactly as its course program builds it.
 
-    The course program (``curveature-visualization.py``, ``seeds/README.md``)
+    The course program of the practical (``curveature-visualization.py``)
     writes the control net as ``[[point(x, y, f(x, y)) for x in range(-5, 5)]
     for y in range(-5, 5)]`` and its spline class takes the **outer** index of
     that list along u.  So here, too, ``control_points[i, j] = (x_j, y_i,
@@ -301,7 +301,7 @@ def hood():
 
 
 def isodistance_sections_example():
-    """The first NURBS of Puig-Pey et al. (``seeds/003`` section 5, figure 1), reconstructed.
+    """The first NURBS of Puig-Pey et al. (§5, figure 1), reconstructed.
 
     Order (4, 4), a 4 × 6 control grid, non-periodic knot vectors: one patch
     along u and three along v.  The paper does not list its control points;
@@ -328,7 +328,7 @@ def isodistance_sections_example():
 
 
 def isodistance_geodesics_example():
-    """The second NURBS of Puig-Pey et al. (``seeds/003`` section 5, figures 2–3), reconstructed.
+    """The second NURBS of Puig-Pey et al. (§5, figures 2–3), reconstructed.
 
     A single bicubic rational patch on a 4 × 4 control grid, about 30 × 30
     units, so that geodesics from ``x(0.7, 0.3)`` reach the paper's distances

@@ -1,10 +1,10 @@
 """Matplotlib figures in the parameter domain: path fans with polar isodistance curves and trimming loops.
 
 Puig-Pey et al. draw the normal sections (or geodesics) from a point with
-their polar isodistance curves on the surface (``seeds/003`` figures 1, 2)
+their polar isodistance curves on the surface (Puig-Pey et al., figures 1, 2)
 and in the parameter domain (figure 3); :func:`isodistance_figure` draws both
 side by side.  Choi and Lee draw the trimming loops and the triangulation in
-the domain (``seeds/002`` figures 2, 8a): :func:`trimming_figure`.
+the domain (Choi & Lee, figures 2, 8a): :func:`trimming_figure`.
 """
 
 import io

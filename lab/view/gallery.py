@@ -2,8 +2,8 @@
 
 Each picture is made by running the command line (``python -m lab.cli
 render``, in a subprocess: the CLI sits above this layer), with the options
-written next to it in ``docs/gallery/README.md``, so the README, the gallery
-and a student's own call give the same picture.  Rendering is
+written under it in the site's gallery (``docs/gallery/index.md``, made from :data:`PICTURES` when the site is
+built), so the README, the gallery and a student's own call give the same picture with the same caption.  Rendering is
 deterministic (fixed sizes, the automatic camera is a fixed rule), so
 re-running the command after a change of the library redraws exactly what
 changed.
@@ -14,15 +14,18 @@ import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ["PICTURES", "main"]
+__all__ = ["PICTURES", "SIZE", "main"]
+
+#: The size every picture is drawn at.
+SIZE = "800x600"
 
 #: (file name, ``curvature-lab render`` options, caption); README pictures live in docs/, the others in docs/gallery/.
 PICTURES = [
     ("practical_gaussian_linear.png",
      "--surface practical --curvature gaussian --color-map linear --depth 1 --edges",
      ("The practical's setting: its B-spline surface as 7 × 7 Bézier patches refined once (patch borders drawn), "
-      "Gaussian curvature with the linear map h∘f2. The bump's top (K ≈ 37) takes the red end of the range, so "
-      "everything else, K from −1.2 to about 1, is blue.")),
+      "Gaussian curvature with the linear map h∘f2. The bump's top (K ≈ 37 at the corners) takes the red end of "
+      "the range, so everything else, K from −1.1 to 0.53, is blue.")),
     ("practical_gaussian_signed_log.png",
      "--surface practical --curvature gaussian --color-map signed-log --depth 3",
      ("The same surface refined three times, with the signed-logarithmic map: the elliptic top of the bump (red to "
@@ -86,15 +89,12 @@ PICTURES = [
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m lab.view.gallery", description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="docs", help="the docs folder (default: docs)")
-    parser.add_argument("--size", default="800x600", help="picture size (default: 800x600)")
+    parser.add_argument("--size", default=SIZE, help=f"picture size (default: {SIZE})")
     parser.add_argument("--only", help="only the pictures whose file name contains this text")
     args = parser.parse_args(argv)
     out = Path(args.out)
     (out / "gallery").mkdir(parents=True, exist_ok=True)
-    intro = "Made by `make docs` (`python -m lab.view.gallery`); each picture is one `curvature-lab render` call, " \
-            "written under it."
-    lines = ["# Gallery", "", intro, ""]
-    for name, options, caption in PICTURES:
+    for name, options, _caption in PICTURES:
         if args.only and args.only not in name:
             continue
         path = out / name
@@ -105,11 +105,6 @@ def main(argv=None):
             print(result.stderr, file=sys.stderr)
             return result.returncode
         print(f"wrote {path}", file=sys.stderr)
-        rel = name[len("gallery/"):] if name.startswith("gallery/") else f"../{name}"
-        lines += [f"![{caption}]({rel})", "", caption, "",
-                  f"    curvature-lab render {options} --window-size {args.size} -o docs/{name}", ""]
-    if not args.only:
-        (out / "gallery" / "README.md").write_text("\n".join(lines))
     return 0
 
 

@@ -353,7 +353,7 @@ def face_borders(mesh):
 
 
 def _add_flat(plotter, mesh, edges):
-    """Dill's drawing (``seeds/000``): one colour per polygon (cell ``RGB``, :func:`lab.mesh.color_cells`), one light
+    """Dill's drawing (Dill 1981): one colour per polygon (cell ``RGB``, :func:`lab.mesh.color_cells`), one light
     at the eye (ambient plus Lambert)."""
     plotter.add_light(pv.Light(light_type="headlight"))
     colors = {"scalars": "RGB", "rgb": True, "preference": "cell"} if "RGB" in mesh.cell_data else {"color": "#d9d9d9"}
@@ -455,7 +455,7 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         Draw the colour bar or legend when the colours' meaning is known (True: coloured here by
         ``curvature`` and ``color_map``), never (False), or this one.  A mesh without colours is grey.
     shading : {"smooth", "flat"}
-        ``"flat"`` draws as Dill did (``seeds/000``, "Image generation"): every
+        ``"flat"`` draws as Dill did (Dill 1981, "Image generation"): every
         polygon in one colour, that of the mean of its vertices' values, and one
         uniform shade from a single light at the eye (ambient plus Lambert), so
         band edges follow the polygons as in his figures.

@@ -1,4 +1,4 @@
-"""Geodesics, normal sections and polar isodistance curves on a surface (Puig-Pey, Gálvez, Iglesias, ``seeds/003``).
+"""Geodesics, normal sections and polar isodistance curves on a surface (Puig-Pey, Gálvez, Iglesias 2002).
 
 ``problem`` (the ODEs and the patch-wise surface) → ``integrator`` (solve_ivp, vectorised DOP853) → ``paths``
 (paths and fans) → ``isodistance``, ``shortest``; ``lines`` (lines of curvature) on the same integrator.  May import numpy, scipy, lab.geometry and lab.model.

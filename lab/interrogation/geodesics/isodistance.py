@@ -1,4 +1,4 @@
-"""Polar isodistance curves: the points at arc length s_L along a fan of paths (``seeds/003`` sections 3, 5)."""
+"""Polar isodistance curves: the points at arc length s_L along a fan of paths (Puig-Pey et al., §3, 5)."""
 
 from dataclasses import dataclass
 
@@ -13,7 +13,7 @@ __all__ = ["Isodistance", "polar_isodistance"]
 
 @dataclass(frozen=True, eq=False)
 class Isodistance:
-    """One piece of a polar isodistance curve (seeds/003 section 3).
+    """One piece of a polar isodistance curve (Puig-Pey et al., §3).
 
     Attributes
     ----------
@@ -59,7 +59,7 @@ ISODISTANCE_BYTES_PER_SAMPLE = 300
 
 
 def polar_isodistance(fan, distances, *, samples_per_angle=8):
-    r"""Polar isodistance curves: the points at arc length s_L along every path of a fan (seeds/003 sections 3, 5).
+    r"""Polar isodistance curves: the points at arc length s_L along every path of a fan (Puig-Pey et al., §3, 5).
 
     For each distance the point of every path that reaches it is taken from
     the solver's dense output.  If all paths reach it, the curve is closed and

@@ -1,9 +1,10 @@
-r"""Normal sections, geodesics and polar isodistance curves (Puig-Pey, Gálvez, Iglesias, ``seeds/003``).
+r"""Normal sections, geodesics and polar isodistance curves (Puig-Pey, Gálvez, Iglesias 2002).
 
 A path starts at a surface point :math:`\mathbf P = \mathbf x(u_0, v_0)` in the
 tangent direction of angle :math:`\alpha` (eq. 10)
 
 .. math::
+    :label: geodesics-1
 
     \mathbf n = \cos\alpha\,\frac{\mathbf x_v}{|\mathbf x_v|}
               + \sin\alpha\,\frac{\mathbf x_v^\perp}{|\mathbf x_v^\perp|},
@@ -313,7 +314,7 @@ def _single(surface, uv, angle, length, kind, rtol, atol, method, n_samples):
 
 
 def geodesic(surface, uv, angle, length, *, rtol=RTOL, atol=ATOL, method="DOP853", n_samples=201):
-    r"""The geodesic from ``x(u0, v0)`` in the direction of angle α, by arc length (seeds/003 eqs. 11, 12, 14–17).
+    r"""The geodesic from ``x(u0, v0)`` in the direction of angle α, by arc length (Puig-Pey et al., eqs. 11, 12, 14–17).
 
     .. math::
 
@@ -364,7 +365,7 @@ def geodesic(surface, uv, angle, length, *, rtol=RTOL, atol=ATOL, method="DOP853
 
 
 def normal_section(surface, uv, angle, length, *, rtol=RTOL, atol=ATOL, method="DOP853", n_samples=201):
-    r"""The normal section from ``x(u0, v0)`` in the direction of angle α, by arc length (seeds/003 eqs. 7–10).
+    r"""The normal section from ``x(u0, v0)`` in the direction of angle α, by arc length (Puig-Pey et al., eqs. 7–10).
 
     The plane through :math:`\mathbf P` containing the normal :math:`\mathbf N`
     (eq. 2) and the direction :math:`\mathbf n` (eq. 10) has the normal
@@ -425,7 +426,7 @@ def _fan(surface, uv, n_angles, length, kind, rtol, atol, n_samples, vectorized,
 
 
 def geodesic_fan(surface, uv, n_angles, length, *, angles=None, rtol=RTOL, atol=ATOL, n_samples=101, vectorized=True):
-    """Geodesics from ``x(u0, v0)`` at the angles α_k = 2πk/n, k = 0 … n-1 (seeds/003 sections 3.2 and 4).
+    """Geodesics from ``x(u0, v0)`` at the angles α_k = 2πk/n, k = 0 … n-1 (Puig-Pey et al., §3.2 and 4).
 
     All paths are integrated together: one vectorised Dormand–Prince 8(5,3)
     stepper in which every path keeps its own step size and takes exactly the
@@ -456,7 +457,7 @@ def geodesic_fan(surface, uv, n_angles, length, *, angles=None, rtol=RTOL, atol=
 
 def normal_section_fan(surface, uv, n_angles, length, *, angles=None, rtol=RTOL, atol=ATOL, n_samples=101,
                        vectorized=True):
-    """Normal sections from ``x(u0, v0)`` at the angles α_k = 2πk/n (seeds/003 section 3.1, figure 1).
+    """Normal sections from ``x(u0, v0)`` at the angles α_k = 2πk/n (Puig-Pey et al., §3.1, figure 1).
 
     Integrated together as in :func:`geodesic_fan`; parameters as there.
     """

@@ -1,4 +1,4 @@
-"""Geodesics and normal sections as ODEs in the parameter domain (``seeds/003`` eqs. 7, 9-16), patch by patch.
+"""Geodesics and normal sections as ODEs in the parameter domain (Puig-Pey et al., eqs. 7, 9-16), patch by patch.
 
 The right-hand sides (eq. 11 with the Christoffel symbols, eq. 7 for normal
 sections), the start direction of angle α (eqs. 9, 10, 14-16), and
@@ -49,7 +49,7 @@ def _dot(a, b):
 def christoffel(d):
     r"""Christoffel symbols of the second kind from exact first and second derivatives.
 
-    ``seeds/003`` (after eq. 11) calls them "first kind Christoffel symbols";
+    Puig-Pey et al. (after eq. 11) call them "first kind Christoffel symbols";
     the :math:`\Gamma^k_{ij}` of eq. 11 are those of the **second** kind (the
     first kind, :math:`\Gamma_{ijk} = \mathbf x_{ij}\cdot\mathbf x_k`, has all
     indices down).  With :math:`E_u = 2\,\mathbf x_u\cdot\mathbf x_{uu}`,
@@ -59,7 +59,7 @@ def christoffel(d):
     :math:`G_u = 2\,\mathbf x_v\cdot\mathbf x_{uv}`,
     :math:`G_v = 2\,\mathbf x_v\cdot\mathbf x_{vv}` and the denominator
     :math:`2\det\mathbf G = 2(EG - F^2)` (Struik, *Lectures on Classical Differential
-    Geometry*, chapter 4, the reference [18] that ``seeds/003`` gives for eq. 11):
+    Geometry*, chapter 4, the reference [18] that Puig-Pey et al. give for eq. 11):
 
     .. math::
 

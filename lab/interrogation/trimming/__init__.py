@@ -1,4 +1,4 @@
-"""Trimmed surfaces (Choi & Lee, ``seeds/002`` section 2): trimming loops in the parameter domain, their
+"""Trimmed surfaces (Choi & Lee, §2): trimming loops in the parameter domain, their
 validation and constrained Delaunay triangulation, and the trimmed surface with exact curvature.
 ``loops`` → ``triangulation`` → ``surface``; may import numpy, scipy, triangle, lab.geometry and lab.mesh.
 """

@@ -1,4 +1,4 @@
-r"""Trimmed surfaces: trimming loops in the parameter domain and their triangulation (``seeds/002``, section 2).
+r"""Trimmed surfaces: trimming loops in the parameter domain and their triangulation (Choi & Lee, §2).
 
 A trimmed surface is a base surface :math:`\mathbf S(u, v)` over its
 rectangular domain :math:`D` together with trimming loops
@@ -58,7 +58,7 @@ _CHUNK = 1 << 20  # pair-wise work is done in blocks of about this many entries
 
 
 class BSplineLoop:
-    r"""A closed B-spline or NURBS curve :math:`B(t) = (u(t), v(t))` in the parameter domain (``seeds/002`` eq. 3).
+    r"""A closed B-spline or NURBS curve :math:`B(t) = (u(t), v(t))` in the parameter domain (Choi & Lee, eq. 3).
 
     .. math:: B(t) = \frac{\sum_i w_i \mathbf P_i N_{i,p}(t)}{\sum_i w_i N_{i,p}(t)}
 

@@ -1,4 +1,4 @@
-"""A trimmed surface: a base surface restricted to the region between its trimming loops (``seeds/002``, section 2)."""
+"""A trimmed surface: a base surface restricted to the region between its trimming loops (Choi & Lee, §2)."""
 
 import numpy as np
 
@@ -14,7 +14,7 @@ __all__ = ["TrimmedSurface", "trimmed"]
 
 
 class TrimmedSurface:
-    """A base surface restricted to the region bounded by trimming loops in its domain (``seeds/002``, section 2).
+    """A base surface restricted to the region bounded by trimming loops in its domain (Choi & Lee, §2).
 
     Build it with :func:`trimmed`.  The loops are stored as validated
     polylines: :attr:`outer` (counter-clockwise) and :attr:`holes` (clockwise).

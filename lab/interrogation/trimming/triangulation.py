@@ -1,4 +1,4 @@
-"""Validation of trimming loops and the constrained Delaunay triangulation of the trimmed region (``seeds/002`` 2.2)."""
+"""Validation of trimming loops and the constrained Delaunay triangulation of the trimmed region (Choi & Lee, §2.2)."""
 
 from typing import NamedTuple
 
@@ -208,7 +208,7 @@ def _iso_lines(domain, n_u, n_v):
 def _insert_crossings(loop, us, vs, gap):
     """Insert the intersections of the iso-parameter lines ``u = us``, ``v = vs`` with the loop's segments.
 
-    The "v value table" of ``seeds/002``, 2.2: every iso-line crossing of a
+    The "v value table" of Choi & Lee, §2.2: every iso-line crossing of a
     boundary segment becomes a boundary node (set exactly onto the iso-line),
     unless it lies closer than ``gap`` to an end of its segment or to the
     crossing before it on the segment.
@@ -275,7 +275,7 @@ TRIANGULATION_BYTES_PER_NODE = 1000
 
 def triangulate(outer, holes, domain, n_u=32, n_v=32, max_area=None, min_angle=20.0, iso_nodes=True, *,
                 memory_limit=None):
-    """Constrained Delaunay triangulation of a trimmed region in the parameter domain (``seeds/002``, 2.2-2.4).
+    """Constrained Delaunay triangulation of a trimmed region in the parameter domain (Choi & Lee, §2.2-2.4).
 
     Boundary nodes are the loop points, the crossings of the iso-parameter
     lines with the loops and, where a segment is still longer than the grid

@@ -2,10 +2,12 @@
 --out SUBS``.
 
 ``HOMES`` is a folder with one home per student, named by the user name: the local spawner's ``/home``, or
-the hub's home volumes mounted in an admin pod (``deploy/collect.md``).  In each home the notebook of the
+the hub's home volumes mounted in an admin pod (docs/instructors/collect.md).  In each home the notebook of the
 assignment is the one whose metadata ``lab.assignment`` is ``ID`` (every exercise carries it, whatever the
-student renamed the file to), else one whose file name is ``ID.ipynb``; of several, the one saved last by its
-modification time (the others are noted).  It is copied to ``SUBS/<student>/<ID>.ipynb``, with the hand-in time
+student renamed the file to), else one whose file name is ``ID.ipynb``; of several, one the student changed
+before one still as handed out (the hand-out has each exercise in English and German: a student who works in
+one language keeps the other copy untouched), then the one saved last by its modification time (the others are
+noted).  It is copied to ``SUBS/<student>/<ID>.ipynb``, with the hand-in time
 as its modification time.
 
 **The hand-in time** (``submitted``) comes from nothing the student controls.  It is the earlier of two times,
@@ -241,11 +243,18 @@ def _meta_id(raw):
     return (str(meta["assignment"]) if "assignment" in meta else None), nb
 
 
-def _find(home_fd, assignment_id):
+def _sources(nb):
+    """What a student writes in a notebook: the kinds and sources of its cells (not outputs or metadata, which
+    running or saving an untouched copy changes)."""
+    return hashlib.sha256(json.dumps([(c.get("cell_type"), c.get("source")) for c in nb.cells]).encode()).hexdigest()
+
+
+def _find(home_fd, assignment_id, handed_out=frozenset()):
     """``(found, notes)`` for the open home ``home_fd``: ``found`` is ``(rel, raw, notebook, info, seen)`` of the
     student's notebook of the assignment (``info`` the ``os.fstat`` of the descriptor its bytes were read from,
     ``seen`` the collector's time after reading them), or None; refused files of the assignment's name are in the
-    notes."""
+    notes.  A notebook whose cells are those of a hand-out copy (``handed_out``, of :func:`_sources`) comes after
+    one the student changed."""
     candidates, notes = [], []
     for rel, dir_fd, name in _notebooks(home_fd):
         named = rel.stem == assignment_id
@@ -259,25 +268,28 @@ def _find(home_fd, assignment_id):
         claimed, nb = _meta_id(raw)
         by_meta, by_name = claimed == assignment_id, named and claimed is None
         if by_meta or by_name:
-            candidates.append(((0 if by_meta else 1, -info.st_mtime_ns, str(rel)), (rel, raw, nb, info, seen)))
+            untouched = nb is not None and _sources(nb) in handed_out
+            candidates.append(((0 if by_meta else 1, untouched, -info.st_mtime_ns, str(rel)),
+                               (rel, raw, nb, info, seen)))
     if not candidates:
         return None, notes
     candidates.sort(key=lambda c: c[0])
     others = [str(c[1][0]) for c in candidates[1:]]
     if others:
-        notes.append(f"also found, not collected (saved earlier or matched by file name only): {', '.join(others)}")
+        notes.append(f"also found, not collected (as handed out, saved earlier or matched by file name only): {', '.join(others)}")
     return candidates[0][1], notes
 
 
-def find_notebook(home, assignment_id):
-    """``(path, raw, notebook, notes)`` of the student's notebook of the assignment in ``home``, or ``(None, …)``.
+def find_notebook(home, assignment_id, exercises=DEFAULT_FOLDER):
+    """``(path, raw, notebook, notes)`` of the student's notebook of the assignment in ``home``, or ``(None, …)``;
+    one the student changed before one as handed out (the exercises in ``exercises``).
 
     Refused files (links, oversized) are returned in the notes; the path is None then if nothing else matched.
     ``home`` is opened without following a symbolic link (an OSError if it is not a folder).
     """
     home_fd = os.open(home, _FOLDER)
     try:
-        found, notes = _find(home_fd, assignment_id)
+        found, notes = _find(home_fd, assignment_id, _handed_out(exercises, assignment_id))
     finally:
         os.close(home_fd)
     if found is None:
@@ -307,14 +319,14 @@ def _read_roster(path):
     return [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
 
 
-def _find_in(homes_fd, student, assignment_id):
+def _find_in(homes_fd, student, assignment_id, handed_out=frozenset()):
     """:func:`_find` in the home ``student`` of the open folder of homes, opened without following a link."""
     try:
         home_fd = os.open(student, _FOLDER, dir_fd=homes_fd)
     except OSError as exc:  # replaced or removed since the homes were listed
         return None, [f"home refused: {'a symbolic link' if exc.errno == errno.ELOOP else exc.strerror}"]
     try:
-        return _find(home_fd, assignment_id)
+        return _find(home_fd, assignment_id, handed_out)
     finally:
         os.close(home_fd)
 
@@ -340,8 +352,9 @@ def _collect(homes_fd, assignment_id, deadline, out_dir, roster, exercises, log)
     plan, rows, answers = [], [], {}
     exercise_nb, exercise_ids = _exercise(exercises, assignment_id)
     questions = written.questions_of(exercise_nb) if exercise_nb is not None else []
+    handed_out = _handed_out(exercises, assignment_id)
     for student in students:
-        notebook, notes = _find_in(homes_fd, student, assignment_id)
+        notebook, notes = _find_in(homes_fd, student, assignment_id, handed_out)
         row = dict.fromkeys(COLLECTED_COLUMNS, "")
         row.update(student=student, assignment=assignment_id, deadline=deadline.isoformat())
         if notebook is None:
@@ -410,6 +423,13 @@ def _exercise(exercises, assignment_id):
             nb = nbformat.read(str(path), as_version=4)
             return nb, [c.get("id") for c in nb.cells]
     return None, ()
+
+
+def _handed_out(exercises, assignment_id):
+    """:func:`_sources` of the exercise notebooks of the assignment in every language (the copies a student got)."""
+    where = Path(exercises)
+    paths = [folder / f"{assignment_id}.ipynb" for folder in (where, *(where / lang for lang in i18n.LANGUAGES))]
+    return frozenset(_sources(nbformat.read(str(p), as_version=4)) for p in paths if p.is_file())
 
 
 def main(argv=None):

@@ -20,7 +20,7 @@ disassemble bytecode; the grader never relies on it (its sandbox withholds the f
 
 ``--self-study`` keeps the library as it is (the references readable, for learners who work alone); the
 solutions stay out either way.  ``--git`` makes ``OUT`` a git repository and commits the hand-out, so that
-``git push`` publishes it for nbgitpuller (``deploy/nbgitpuller.md``); releasing again into the same ``OUT``
+``git push`` publishes it for nbgitpuller (the instructors' guide, docs/instructors/handout.md); releasing again into the same ``OUT``
 replaces the hand-out and commits the difference, which nbgitpuller merges into the students' copies
 without overwriting their edits.  ``OUT`` must be empty or an earlier release (marked by ``.lab-release``).
 """

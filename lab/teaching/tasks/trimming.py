@@ -64,7 +64,7 @@ def _hint(args, val, exp):
 
 
 #: ``func(loop)``: the signed (shoelace) area of a closed polyline, positive when counter-clockwise.
-#: ``seeds/002`` 2.1: the outer trimming loop runs counter-clockwise (positive area) and holes run clockwise
+#: Choi & Lee, §2.1: the outer trimming loop runs counter-clockwise (positive area) and holes run clockwise
 #: (negative), so the trimmed region lies to the left of every loop.
 SIGNED_AREA = Task("signed_area", _cases, lambda c: _exact_area(c.args[0]),
                    scalar_judge(_hint, N_("one number (the signed area)")),

@@ -24,7 +24,7 @@ their progress.
 **Threads.** VTK's OpenGL context belongs to the kernel's main thread.
 JupyterLab may deliver widget messages on a comm subshell thread; every
 callback therefore hops to the main thread (``loop.call_soon_threadsafe``)
-before it touches the plotter (DESIGN.md, "Kernel crash trap"), and the
+before it touches the plotter (the developers' guide, "Runtime facts": the kernel crash trap), and the
 project also ships a JupyterLab settings override that keeps comms there.
 
 **Lifecycle.** Re-running a cell closes the explorers that cell made before

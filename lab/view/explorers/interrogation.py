@@ -51,7 +51,7 @@ def _curvature_mesh(source, resolution, default):
 
 
 class FocalExplorer(Explorer):
-    """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (seeds/002, section 4).
+    """A surface and its generalised focal surface F = X + a f(κ1, κ2) N (Choi & Lee, §4).
 
     ``surface`` may be a model (:func:`lab.read`): every face has its focal surface, with the face's normal,
     on ``resolution`` lines per face (default 16; a surface's grid is ``resolution``², default 48).  The
@@ -118,7 +118,7 @@ class FocalExplorer(Explorer):
 
 
 class ReflectionExplorer(Explorer):
-    """Reflection lines, isophotes and the striped box mapping on a surface (seeds/002, section 3).
+    """Reflection lines, isophotes and the striped box mapping on a surface (Choi & Lee, §3).
 
     ``surface`` may be a model (:func:`lab.read`), on ``resolution`` lines per face (default 16; a surface's
     grid is ``resolution``², default 64).  Its faces are not welded: the lines are joined across face borders
@@ -222,7 +222,7 @@ class ReflectionExplorer(Explorer):
 
 
 class GeodesicExplorer(Explorer):
-    """Fans of geodesics or normal sections from a point and their polar isodistance curves (seeds/003).
+    """Fans of geodesics or normal sections from a point and their polar isodistance curves (Puig-Pey et al.).
 
     The paths and the isodistance curves are drawn on the surface and, below
     it, in the parameter domain (like figures 2 and 3 of the paper).  Only what
