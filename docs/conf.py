@@ -66,7 +66,7 @@ mathjax3_config = {"tex": {"tags": "ams"}}
 suppress_warnings = ["mystnb.unknown_mime_type"]
 
 
-def _mathjax(app):
+def _mathjax():
     """Copy MathJax 3's es5/ (npm) to _build/mathjax/mathjax, the one place the pages load it from."""
     source = Path(os.environ.get("LAB_MATHJAX", ROOT / ".venv" / "node" / "node_modules" / "mathjax" / "es5"))
     target = HERE / "_build" / "mathjax" / "mathjax"
@@ -89,7 +89,7 @@ def _withheld_docstrings(app, what, name, obj, options, lines):
 _WITHHELD = {}
 
 
-def _gallery(app):
+def _gallery():
     """docs/gallery/index.md from lab.view.gallery.PICTURES: one caption per picture, the command under it."""
     from lab.view.gallery import PICTURES, SIZE
 
@@ -130,7 +130,7 @@ API = (("geometry", "Formulas on arrays: curvature, directions, colour maps, der
        ("teaching", "Exercise mode."))
 
 
-def _api(app):
+def _api():
     """docs/api/index.md: the public names of ``lab`` (``lab.__all__``), layer by layer, one autosummary each."""
     import lab
 
@@ -151,9 +151,13 @@ def _api(app):
         path.write_text(text)
 
 
+# Generated pages and the static MathJax exist before Sphinx looks for sources (autosummary's stubs come from the
+# pages found then) and checks html_static_path: here, when the configuration is read.
+_api()
+_gallery()
+_mathjax()
+
+
 def setup(app):
-    app.connect("builder-inited", _api)
-    app.connect("builder-inited", _mathjax)
-    app.connect("builder-inited", _gallery)
     app.connect("builder-inited", _cli_help)
     app.connect("autodoc-process-docstring", _withheld_docstrings)
