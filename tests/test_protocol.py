@@ -148,6 +148,8 @@ def correct_answer(task, seed):
     visualize_curvature's is a class written the way a student writes it (tests/students.py)."""
     if task.protocol == "patches":
         return student_class()
+    if task.protocol == "reported":  # the numbers themselves (notebook 05's own surface)
+        return task.expected(task.make_cases(np.random.default_rng(seed), False)[0])
     answers = iter([task.expected(case) for case in task.make_cases(np.random.default_rng(seed), False)])
 
     def answer(*args):

@@ -58,6 +58,8 @@ ANSWERS = {
                              f"{SURFACE}.curvature", f"{SURFACE}._directions", "lab.interrogation.umbilics.traceless"],
     # the lab's exact curvature is the tool this task teaches to use on a real part; the judgement is the student's
     "developable_faces": [],
+    # numbers the student reports, read from the notebook as written: no code of theirs runs for them
+    "own_surface": [],
     "signed_area": ["lab.interrogation.trimming.loops.signed_area",
                     "lab.interrogation.trimming.surface.TrimmedSurface.area_uv"],
 }

@@ -6,7 +6,8 @@ Its rooms, by role: what each holds; what it may import of ``lab.teaching`` (``t
 its side of the trust boundaries.
 
 - ``kernel/``: runs beside the student's code (the calling protocol, the graded calls, the graded run of a notebook,
-  exercise mode); imports nothing of teaching; **inside the sandbox**, the only teaching code it keeps.
+  exercise mode, the student's own surface ``lab.my_surface``); imports nothing of teaching; **inside the sandbox**,
+  the only teaching code it keeps.
 - ``tasks/``: the graded tasks' cases, exact answers, hints and mutants, the registry ``TASKS`` and ``ANALYTIC_BLOCK``;
   imports ``task``, ``report``, ``kernel``; **withheld whole from the hand-out**.
 - ``task``: the task model (``Task``, ``CaseSpec``, ``Hint``, the judges, ``judge_outcome``, ``build_report``);

@@ -11,7 +11,12 @@ A :class:`Task` is data plus pure functions, used unchanged by the in-notebook c
 * ``blocked``: the library functions the student's code must not call for this task (qualified names):
   blocked in the in-notebook check, removed from the package the grader's sandbox sees;
 * ``diagnose(specs, cases)`` → one diagnosis for the whole report: it may rewrite the cases' hints once
-  all are judged (an IndexError means swapped degrees only when the square cases pass).
+  all are judged (an IndexError means swapped degrees only when the square cases pass);
+* ``protocol``: how the student's object is called (:func:`lab.teaching.kernel.protocol.call`); ``"reported"`` is
+  no call: the object is numbers the student reports, and the grader reads them as written in the notebook;
+* ``variant``: the assignment whose per-student surface the cases are about (:mod:`lab.teaching.kernel.variants`),
+  and ``variant_cases(student, params, exact=True)`` → the cases of that student's variant (``params`` None: the
+  common surface; ``exact=False``: answers from floating point, enough to recognise a classmate's numbers).
 
 A hint may be a :class:`Hint`, a text that also names its mistake (``key``), so that ``diagnose`` can
 reason about the cases and the report can group cases with the same mistake.
@@ -68,6 +73,8 @@ class Task:
     error_hint: object = None
     summary: str = ""
     diagnose: object = None
+    variant: str = ""
+    variant_cases: object = None
 
 
 def close(a, b, rtol=1e-7, scale=None):

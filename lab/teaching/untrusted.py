@@ -18,9 +18,12 @@ functions that read and show it, so every place uses the same rules:
   line-breaking or invisible character, at most :data:`MAX_ID` characters;
 * :func:`open_folder` and :func:`write_at`: a file written atomically into a folder opened once, by a name that
   is one path component, never through a symbolic link (a report folder, a student's home);
-* :func:`plain_file`: whether a path in a folder of submissions is a plain file inside it.
+* :func:`plain_file`: whether a path in a folder of submissions is a plain file inside it;
+* :func:`reported_outcome`: the numbers a notebook reports, ``name = (…)``, read as written (a literal of at most
+  :data:`MAX_REPORTED` characters, never run).
 """
 
+import ast
 import csv
 import errno
 import json
@@ -30,9 +33,11 @@ import stat
 import unicodedata
 from pathlib import Path
 
-__all__ = ["MAX_ID", "MAX_TEXT", "TooLong", "UntrustedError", "clean", "csv_cell", "csv_rows", "csv_value", "defines",
-           "definitions", "file_name", "loads", "open_file", "open_folder", "plain_file", "read_file", "read_lines",
-           "read_notebook", "student_id", "write_at"]
+from ..i18n import _
+
+__all__ = ["MAX_ID", "MAX_REPORTED", "MAX_TEXT", "TooLong", "UntrustedError", "assigned", "clean", "csv_cell",
+           "csv_rows", "csv_value", "defines", "definitions", "file_name", "loads", "open_file", "open_folder",
+           "plain_file", "read_file", "read_lines", "read_notebook", "reported_outcome", "student_id", "write_at"]
 
 #: Longest text of one message kept from a submission (characters).
 MAX_TEXT = 2000
@@ -202,6 +207,71 @@ def _identifier(text):
 def defines(source, name, limit=MAX_SCAN):
     """Whether ``source`` defines ``name`` (:func:`definitions`)."""
     return str(name).isidentifier() and name in definitions(source, limit)
+
+
+#: Longest expression of reported numbers read (characters): four numbers with all their digits take about 100.
+MAX_REPORTED = 2000
+#: Most numbers a report of numbers may have.
+MAX_REPORTED_NUMBERS = 16
+
+
+def _open_brackets(text):
+    return sum(text.count(c) for c in "([{") > sum(text.count(c) for c in ")]}")
+
+
+def assigned(sources, name, limit=MAX_SCAN):
+    """The expression of the last ``name = …`` at the start of a line (not indented) in the cell ``sources`` (in
+    order), with the lines that follow while its brackets are open, at most :data:`MAX_REPORTED` characters; None
+    when no cell assigns ``name`` so."""
+    found = None
+    if not str(name).isidentifier():
+        return None
+    for source in sources:
+        lines = str(source)[:limit].split("\n")
+        for k, line in enumerate(lines):
+            if not line.startswith(name) or _identifier(line) != name:
+                continue
+            rest = line[len(name):].lstrip(" \t")
+            if not rest.startswith("=") or rest.startswith("=="):
+                continue
+            text, j = rest[1:], k
+            while _open_brackets(text) and j + 1 < len(lines) and len(text) <= MAX_REPORTED:
+                j += 1
+                text += "\n" + lines[j]
+            found = text[:MAX_REPORTED + 1]
+    return found
+
+
+def _numbers(value):
+    """The plain numbers of a literal (a number, or a tuple or list of numbers), or None."""
+    items = list(value) if isinstance(value, (tuple, list)) else [value]
+    if not 0 < len(items) <= MAX_REPORTED_NUMBERS or not all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) for x in items):
+        return None
+    return {"kind": "array", "shape": [len(items)] if isinstance(value, (tuple, list)) else [],
+            "data": [float(x) for x in items]}
+
+
+def reported_outcome(sources, name):
+    """The numbers the code cells ``sources`` report as ``name = (…)``, read as written, never run: an outcome as
+    :func:`lab.teaching.kernel.protocol.outcome` gives one – ``ok`` with the numbers, ``error`` for an expression that
+    is no literal of numbers (code, which the grader does not run for it), ``not implemented`` when no cell assigns
+    ``name`` at the start of a line."""
+    text = assigned(sources, name)
+    if text is None:
+        return {"status": "not implemented", "message": _("{name} is not written yet: write the numbers as "
+                                                          "{name} = (…) in its cell").format(name=name)}
+    value = None
+    if len(text) <= MAX_REPORTED:
+        try:
+            value = _numbers(ast.literal_eval(ast.parse(text.strip(), mode="eval")))
+        except (SyntaxError, ValueError, TypeError, RecursionError, MemoryError):
+            value = None
+    if value is None:
+        return {"status": "error", "message": _("{name} = {code} is not numbers as written; write the numbers "
+                                                "themselves").format(name=name, code=clean(text.strip(), 120,
+                                                                                          keep_newlines=False))}
+    return {"status": "ok", "value": value}
 
 
 def _depth_ok(text, limit):

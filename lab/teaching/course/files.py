@@ -6,6 +6,8 @@ and is read back through :func:`lab.teaching.untrusted.csv_rows` (the quote take
 ``'bea`` and not ``bea``.
 """
 
+import csv
+import io
 import os
 import threading
 from pathlib import Path
@@ -14,7 +16,7 @@ from ... import library, repository
 from ..untrusted import csv_rows
 
 __all__ = ["COLLECTED_COLUMNS", "SUMMARY_COLUMNS", "NotACourseRepository", "course_repository", "one_per_student",
-           "read_collected", "read_summary", "summary_rows", "write_atomic"]
+           "read_collected", "read_roster", "read_summary", "summary_rows", "write_atomic"]
 
 #: The columns of ``SUBS/collected.csv``, written by ``collect``.
 COLLECTED_COLUMNS = ("student", "assignment", "status", "file", "submitted", "modified", "changed", "first_seen",
@@ -47,6 +49,21 @@ def write_atomic(path, text):
     tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
     tmp.write_text(text)
     os.replace(tmp, path)
+
+
+def read_roster(path, error=ValueError):
+    """User names from a roster file (``collect --students``, ``release --per-student``): one per line (``#`` starts a
+    comment line), or a CSV with a column ``username`` (or ``student``, ``login``, ``SIS Login ID``); a CSV without
+    one raises ``error``."""
+    text = Path(path).read_text()
+    rows = list(csv.reader(io.StringIO(text)))
+    if rows and len(rows[0]) > 1:
+        head = [h.strip().lower() for h in rows[0]]
+        col = next((head.index(k) for k in ("username", "student", "login", "sis login id") if k in head), None)
+        if col is None:
+            raise error(f"{path}: a CSV roster needs a column 'username'; got {rows[0]}")
+        return [r[col].strip() for r in rows[1:] if len(r) > col and r[col].strip()]
+    return [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
 
 
 def read_collected(folder):

@@ -27,6 +27,10 @@ sandbox, ``jobs`` at a time, with one seed for the whole run:
 * ``summary.csv`` has a row per submission and per refused file (columns :data:`SUMMARY_COLUMNS`); every
   cell is cleaned and can never be a spreadsheet formula (read it back with :func:`read_summary`).  With
   ``SUBS/collected.csv`` (from ``collect``) the hand-in time and lateness of each student are copied into it.
+* **Per-student surfaces**: ``--variants variants.json`` (the table of ``release --per-student``) grades each
+  student's per-student tasks on the student's own variant (the folder ``SUBS/<student>``; ``--student`` for one
+  notebook) and notes numbers that answer a classmate's variant; a notebook of a per-student hand-out graded
+  without the table is an error that says so.  ``run.json`` records the table's id: ``--resume`` needs the same.
 """
 
 import argparse
@@ -57,6 +61,7 @@ from ..grader.notebook import (
     read_submission,
     submission_language,
 )
+from ..kernel.variants import read_table
 from ..sandbox.bubblewrap import DISK, LAB_DIR, MEMORY, bwrap_works, probe
 from ..untrusted import UntrustedError, clean, csv_cell, loads, plain_file, read_file, student_id, write_at
 from .files import SUMMARY_COLUMNS, read_collected, write_atomic
@@ -170,7 +175,7 @@ def _summary_row(student, rel, res, collected):
     values = {"student": student, "notebook": str(rel), "score": res.score, "max_score": res.max_score,
               "passed": res.passed, "assignment": res.assignment, "seed": res.seed, "tasks": tasks,
               "error": res.error, "submitted": late.get("submitted", ""), "late": late.get("late", ""),
-              "late_seconds": late.get("late_seconds", ""), "notes": " | ".join(res.notes),
+              "late_seconds": late.get("late_seconds", ""), "notes": " | ".join(res.notes + res.private_notes),
               "missing_protections": "; ".join(res.missing_protections)}
     return [csv_cell(values[c]) for c in SUMMARY_COLUMNS]
 
@@ -181,19 +186,20 @@ def _open_out(out_dir):
     return os.open(out_dir, os.O_RDONLY | os.O_DIRECTORY | getattr(os, "O_CLOEXEC", 0))
 
 
-def _run_record(out_dir, seed, assignment, resume, *, dir_fd=None):
-    """The seed of the run: from ``run.json`` when resuming (it must agree with ``seed`` if given).
+def _run_record(out_dir, seed, assignment, resume, *, dir_fd=None, variants=None):
+    """The seed of the run: from ``run.json`` when resuming (it must agree with ``seed`` if given, and was graded
+    with the same variants table, id ``variants``).
 
     ``dir_fd``: the open report folder (else ``out_dir`` is opened)."""
     fd = _open_out(out_dir) if dir_fd is None else dir_fd
     try:
-        return _run_record_at(fd, out_dir, seed, assignment, resume)
+        return _run_record_at(fd, out_dir, seed, assignment, resume, variants)
     finally:
         if dir_fd is None:
             os.close(fd)
 
 
-def _run_record_at(fd, out_dir, seed, assignment, resume):
+def _run_record_at(fd, out_dir, seed, assignment, resume, variants=None):
     try:
         os.stat("run.json", dir_fd=fd, follow_symlinks=False)
         exists = True
@@ -212,9 +218,13 @@ def _run_record_at(fd, out_dir, seed, assignment, resume):
         if _assignment_key(assignment) != (None if old.get("assignment") in (None, "None") else old["assignment"]):
             raise GradingError(f"--resume: the reports in {out_dir} were graded against {old.get('assignment')}, "
                                f"not {assignment}")
+        if old.get("variants") != variants:
+            raise GradingError(f"--resume: the reports in {out_dir} were graded with the variants table "
+                               f"{old.get('variants')}, not {variants}")
         return old["seed"]
     seed = secrets.randbelow(2**32) if seed is None else int(seed)
-    write_at(fd, "run.json", json.dumps({"seed": seed, "assignment": _assignment_key(assignment)}))
+    record = {"seed": seed, "assignment": _assignment_key(assignment)}
+    write_at(fd, "run.json", json.dumps(record if variants is None else {**record, "variants": variants}))
     return seed
 
 
@@ -243,11 +253,17 @@ def _resumed(path, stem, out_fd, seed):
 
 
 def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt="text", resume=False,
-                 visibility="visible", sandbox=None, log=sys.stderr, **kwargs):
+                 visibility="visible", sandbox=None, log=sys.stderr, variants=None, **kwargs):
     """Grade every notebook under ``folder`` in parallel sandboxes; reports and ``summary.csv`` into ``out_dir``.
 
-    Returns the results, in the order of the submissions.  See the module docstring.
+    Returns the results, in the order of the submissions.  ``variants``: the table of a per-student release (a
+    :class:`~lab.teaching.kernel.variants.Table`, or the path of its file).  See the module docstring.
     """
+    if variants is not None and not hasattr(variants, "students"):
+        try:
+            variants = read_table(variants)
+        except (OSError, ValueError) as exc:
+            raise GradingError(f"--variants: {exc}") from None
     folder, out_dir = Path(folder).resolve(), Path(out_dir)
     if not folder.is_dir():
         raise GradingError(f"{folder} is not a folder of submissions")
@@ -273,17 +289,18 @@ def grade_folder(folder, out_dir, *, jobs=None, assignment=None, seed=None, fmt=
     names = report_names(folder, notebooks + [p for p, _ in refused], used)
     out_fd = _open_out(out_dir)
     try:
-        seed = _run_record(out_dir, seed, assignment, resume, dir_fd=out_fd)
+        seed = _run_record(out_dir, seed, assignment, resume, dir_fd=out_fd,
+                           variants=None if variants is None else variants.id)
         results = _grade_all(folder, out_fd, notebooks, refused, names, used, jobs=jobs, assignment=assignment,
                              seed=seed, fmt=fmt, resume=resume, visibility=visibility, sandbox=sandbox, log=log,
-                             **kwargs)
+                             variants=variants, **kwargs)
     finally:
         os.close(out_fd)
     return results
 
 
 def _grade_all(folder, out_fd, notebooks, refused, names, used, *, jobs, assignment, seed, fmt, resume, visibility,
-               sandbox, log, **kwargs):
+               sandbox, log, variants=None, **kwargs):
     """The folder run after its checks: grade ``notebooks``, report ``refused``, write every report and
     ``summary.csv`` into the open report folder ``out_fd``."""
     jobs = max(1, jobs or os.cpu_count() or 1)
@@ -314,10 +331,10 @@ def _grade_all(folder, out_fd, notebooks, refused, names, used, *, jobs, assignm
                             if found.id not in packages:
                                 packages[found.id] = Prepared.package_for(found, tmp)
                             if (found.id, lang) not in prepared:
-                                prepared[found.id, lang] = Prepared(found, seed, packages[found.id])
+                                prepared[found.id, lang] = Prepared(found, seed, packages[found.id], variants)
                             shared = prepared[found.id, lang]
             res = grade_notebook(nb_path, assignment=assignment, seed=seed, prepared=shared, submission=submission,
-                                 sandbox=sandbox, **kwargs)
+                                 sandbox=sandbox, variants=variants, student=student, **kwargs)
         except Exception as exc:  # noqa: BLE001 - one submission's failure never stops the others
             print(f"curvature-lab grade: internal error while grading {_shown(str(rel))}:\n{traceback.format_exc()}",
                   file=log)
@@ -355,7 +372,7 @@ def _grade_all(folder, out_fd, notebooks, refused, names, used, *, jobs, assignm
     graded = {r.student for r in results}
     for student, row in sorted(collected.items()):
         if row.get("status") != "collected" and student not in graded:  # listed by collect: no submission
-            results.append(_missing(student, row, assignment, out_fd, fmt, visibility, used, log))
+            results.append(_missing(student, row, assignment, out_fd, fmt, visibility, used, log, variants))
     buf = io.StringIO()
     writer = csv.writer(buf)
     writer.writerow(SUMMARY_COLUMNS)
@@ -365,7 +382,7 @@ def _grade_all(folder, out_fd, notebooks, refused, names, used, *, jobs, assignm
     return results
 
 
-def _missing(student, row, assignment, out_fd, fmt, visibility, used, log=sys.stderr):
+def _missing(student, row, assignment, out_fd, fmt, visibility, used, log=sys.stderr, variants=None):
     """The result of a student ``collect`` found no notebook for: 0 out of the assignment's points."""
     aid = row.get("assignment", "")
     try:
@@ -380,7 +397,7 @@ def _missing(student, row, assignment, out_fd, fmt, visibility, used, log=sys.st
     except _assignments.AssignmentError:
         found = None
     if found is not None:
-        res.assignment, res.tasks = found.id, _zero_tasks(found, res.error)
+        res.assignment, res.tasks = found.id, _zero_tasks(found, res.error, found.graded(variants is not None))
     stem, _note = _take(_stem(f"{student}__{aid}"), used)
     with i18n.using("en"):
         _write_reports(out_fd, stem, res, fmt, visibility, log)
@@ -450,6 +467,11 @@ def build_parser():
                         help=_("MiB of memory per submission, all its processes and files together (default 2048)"))
     parser.add_argument("--disk", type=_positive(int), default=DISK >> 20,
                         help=_("MiB a submission may write (default 512)"))
+    parser.add_argument("--variants", metavar="FILE",
+                        help=_("the variants table of a per-student release (variants.json of the hand-out): grade "
+                               "each student's per-student tasks on the student's own surface"))
+    parser.add_argument("--student", help=_("one notebook with --variants: whose variant it is (a folder: the "
+                                            "folder SUBS/<student>)"))
     parser.add_argument("--no-sandbox", action="store_true",
                         help=_("grade without bubblewrap (limits and a process group only: the submission can read "
                              "the course's files); required to grade a folder where bubblewrap cannot run"))
@@ -471,6 +493,19 @@ def main(argv=None):
         parser.error(f"--disk must be at least 16 (MiB); got {args.disk}")
     kwargs = {"timeout": args.timeout, "check_timeout": args.check_timeout, "total_timeout": args.total_timeout,
               "memory": args.memory << 20, "disk": args.disk << 20, "sandbox": False if args.no_sandbox else None}
+    variants = None
+    if args.variants:
+        try:
+            variants = read_table(args.variants)
+        except (OSError, ValueError) as exc:
+            print(f"curvature-lab grade: error: --variants: {exc}", file=sys.stderr)
+            return 2
+    if path.is_dir() and args.student:
+        parser.error("--student names the student of one notebook; a folder's students are its folders")
+    if variants is not None and not path.is_dir() and not args.student:
+        parser.error("--variants with one notebook needs --student (whose variant it is)")
+    if variants is not None:
+        kwargs["variants"] = variants
     if path.is_dir():
         out = Path(args.out) if args.out else path.with_name(path.name + "-reports")
         try:
@@ -490,7 +525,7 @@ def main(argv=None):
         parser.error(f"expected a .ipynb notebook or a folder; got {path}")
     if args.resume:
         parser.error("--resume applies to a folder of submissions")
-    result = grade_notebook(path, assignment=args.assignment, seed=args.seed, **kwargs)
+    result = grade_notebook(path, assignment=args.assignment, seed=args.seed, student=args.student, **kwargs)
     for what in result.missing_protections:
         print(f"curvature-lab grade: warning: missing protection: {what}", file=sys.stderr)
     if fmt == "gradescope":

@@ -23,6 +23,13 @@ solutions stay out either way.  ``--git`` makes ``OUT`` a git repository and com
 ``git push`` publishes it for nbgitpuller (the instructors' guide, docs/instructors/handout.md); releasing again into the same ``OUT``
 replaces the hand-out and commits the difference, which nbgitpuller merges into the students' copies
 without overwriting their edits.  ``OUT`` must be empty or an earlier release (marked by ``.lab-release``).
+
+``--per-student ROSTER --secret-file FILE`` gives every student of the roster (one user name per line, or a CSV
+with a ``username`` column, as ``collect --students`` reads it) their own variant of each assignment's surface that
+has one (:mod:`lab.teaching.course.variants`): ``OUT/variants.json`` is the table student → parameters, which
+``lab.my_surface`` reads in the student's JupyterLab and ``curvature-lab grade --variants`` in the grader; those
+exercises carry the table's id in their metadata (``lab.variants``), so that grading one without the table is an
+error.  The secret stays with the instructor: ``release`` checks that its bytes appear in no file of ``OUT``.
 """
 
 import argparse
@@ -38,9 +45,11 @@ import nbformat
 
 from ... import repository
 from ...i18n import _
+from ..kernel.variants import TABLE
 from ..sandbox import withhold
 from . import exercises as notebooks
-from .files import NotACourseRepository, course_repository
+from . import variants as _variants
+from .files import NotACourseRepository, course_repository, read_roster
 
 __all__ = ["MARK", "ReleaseError", "main", "release", "solution_lines", "solution_lines_in"]
 
@@ -164,13 +173,14 @@ def _check_exercises():
                            + ", ".join(stale))
 
 
-def _titles():
+def _titles(per_student=False):
     rows = []
     for path in sorted((ROOT / "exercises" / "en").glob("[0-9][0-9]_*.ipynb")):
         en = nbformat.read(str(path), as_version=4).metadata.get("lab", {})
         de_path = ROOT / "exercises" / "de" / path.name
         de = nbformat.read(str(de_path), as_version=4).metadata.get("lab", {}) if de_path.is_file() else {}
-        tasks = ", ".join(f"`{t['task']}` ({t['points']:g})" for t in en.get("tasks", [])) or "–"
+        tasks = ", ".join(f"`{t['task']}` ({t['points']:g}{', per student' if t.get('per_student') else ''})"
+                          for t in en.get("tasks", []) if per_student or not t.get("per_student")) or "–"
         rows.append(f"| `{path.stem}` | {en.get('title', path.stem)} | {de.get('title', '')} | {tasks} |")
     return "\n".join(rows)
 
@@ -220,8 +230,43 @@ include jupyter/setup.mk
 """
 
 
-def release(out, *, self_study=False, pythons=(sys.executable,), git=False, check=True):
-    """Write the hand-out into ``out`` (see the module docstring); returns ``out``."""
+PER_STUDENT = """**Your own surface.** In this hand-out some notebooks give every student a variant of their surface:
+`lab.my_surface("05_visualize_curvature")` is yours (from your user name on the hub); the numbers you report are
+graded for your variant. / *In dieser Ausgabe hat jede Studentin und jeder Student eine eigene Variante der Fläche
+einiger Notebooks: `lab.my_surface("05_visualize_curvature")` ist Ihre.*
+"""
+
+
+def _per_student(out, roster, secret):
+    """Write ``OUT/variants.json`` for ``roster`` under ``secret`` and mark the exercises it is about; returns the
+    table's id."""
+    students = _variants.build(roster, secret)
+    ident = _variants.write_table(out / TABLE, students)
+    assignments = {a for variants in students.values() for a in variants}
+    for lang in notebooks.LANGUAGES:
+        for assignment in sorted(assignments):
+            path = out / "exercises" / lang / f"{assignment}.ipynb"
+            if path.is_file():
+                nb = nbformat.read(str(path), as_version=4)
+                nb.metadata.setdefault("lab", {})["variants"] = ident
+                nbformat.write(nb, str(path))
+    return ident
+
+
+def secret_in(tree, secret):
+    """The files under ``tree`` (not ``.git``) that contain the bytes of ``secret`` (or its hex or base64 text)."""
+    import base64
+
+    forms = {secret, secret.hex().encode(), base64.b64encode(secret)}
+    return [p for p in sorted(Path(tree).rglob("*")) if p.is_file() and ".git" not in p.relative_to(tree).parts
+            and any(form in p.read_bytes() for form in forms)]
+
+
+def release(out, *, self_study=False, pythons=(sys.executable,), git=False, check=True, per_student=None):
+    """Write the hand-out into ``out`` (see the module docstring); returns ``out``.
+
+    ``per_student``: ``(roster, secret)``, the user names and the course secret (bytes) of a per-student release.
+    """
     course_repository("release")
     if check:
         _check_exercises()
@@ -232,18 +277,22 @@ def release(out, *, self_study=False, pythons=(sys.executable,), git=False, chec
     for lang in notebooks.LANGUAGES:
         shutil.copytree(ROOT / "exercises" / lang, out / "exercises" / lang,
                         ignore=shutil.ignore_patterns(".ipynb_checkpoints"))
+    ident = _per_student(out, *per_student) if per_student is not None else None
     tags = _library(out, self_study, list(pythons))
     (out / "Makefile").write_text(MAKEFILE)
     build = " (self-study: the library's references included)" if self_study else f", compiled for {', '.join(tags)}"
-    (out / "README.md").write_text(README.format(table=_titles(), date=datetime.date.today().isoformat(), build=build,
-                                                 library=SELF_STUDY if self_study else WITHHELD))
+    library = (SELF_STUDY if self_study else WITHHELD) + ("\n\n" + PER_STUDENT if ident else "")
+    (out / "README.md").write_text(README.format(table=_titles(ident is not None), date=datetime.date.today().isoformat(),
+                                                 build=build, library=library))
     (out / ".gitignore").write_text(".venv/\n*.egg-info/\n.ipynb_checkpoints/\n")
-    (out / MARK).write_text(json.dumps({"self_study": self_study, "python": tags,
+    (out / MARK).write_text(json.dumps({"self_study": self_study, "python": tags, "variants": ident,
                                         "date": datetime.datetime.now().isoformat(timespec="seconds")}) + "\n")
     hits = solution_lines_in(out, skip=("lab",) if self_study else ())  # self-study: the references are meant
     if hits:
         raise ReleaseError("solution lines in the hand-out: " + "; ".join(
             f"{p.relative_to(out)}: {line!r} (from {nb})" for p, nb, line in hits[:10]))
+    if per_student is not None and (leaks := secret_in(out, per_student[1])):
+        raise ReleaseError("the course secret is in the hand-out: " + ", ".join(str(p.relative_to(out)) for p in leaks))
     if git:
         _commit(out)
     return out
@@ -273,10 +322,24 @@ def main(argv=None):
     parser.add_argument("--python", action="append", dest="pythons",
                         help=_("also compile the withheld code for this Python (repeatable; default: the running one)"))
     parser.add_argument("--git", action="store_true", help=_("make OUT a git repository and commit the hand-out"))
+    parser.add_argument("--per-student", metavar="ROSTER",
+                        help=_("give every student of ROSTER (one user name per line, or a CSV with a username column) "
+                               "their own variant of the surfaces that have one (OUT/variants.json); needs "
+                               "--secret-file"))
+    parser.add_argument("--secret-file", metavar="FILE",
+                        help=_("the course's secret (at least 16 bytes; keep it out of every repository): the "
+                               "variants are derived from it and the user names"))
     args = parser.parse_args(argv)
+    if bool(args.per_student) != bool(args.secret_file):
+        parser.error(_("--per-student and --secret-file go together"))
     try:
-        out = release(args.out, self_study=args.self_study, pythons=args.pythons or [sys.executable], git=args.git)
-    except (ReleaseError, notebooks.StudentChangesError, notebooks.SourceError, NotACourseRepository, OSError) as exc:
+        per_student = None
+        if args.per_student:
+            per_student = (read_roster(args.per_student, _variants.VariantError), _variants.read_secret(args.secret_file))
+        out = release(args.out, self_study=args.self_study, pythons=args.pythons or [sys.executable], git=args.git,
+                      per_student=per_student)
+    except (ReleaseError, notebooks.StudentChangesError, notebooks.SourceError, NotACourseRepository, OSError,
+            _variants.VariantError) as exc:
         print(f"curvature-lab release: error: {exc}", file=sys.stderr)
         return 2
     print(_("wrote the hand-out to {out}").format(out=out))

@@ -8,6 +8,11 @@ the project's ``exercises/``), directly in it or in its language folders ``en/``
 submission's language (``lab.lang``) first.  English and German notebooks of one assignment have the same id
 and the same tasks.  What the submission's own metadata says about tasks and points is ignored and only
 reported when it differs.
+
+A task listed with ``"per_student": true`` is about the student's own surface (:mod:`lab.teaching.kernel.variants`):
+it is graded only with the variants table of a per-student release (``curvature-lab grade --variants``), and is then
+part of the assignment's points (:attr:`Assignment.per_student`); with a common hand-out every student's numbers
+would be the same, so it is left to the notebook's own check.
 """
 
 from dataclasses import dataclass
@@ -39,13 +44,19 @@ class Assignment:
     title: str
     tasks: tuple  # of (task, object, points)
     path: str
+    per_student: tuple = ()  # of (task, object, points): graded only in a per-student release
 
     @property
     def max_score(self):
         return sum(p for _, _, p in self.tasks)
 
+    def graded(self, per_student=False):
+        """The tasks graded: :attr:`tasks`, and with ``per_student`` (a variants table) :attr:`per_student` too."""
+        return self.tasks + (self.per_student if per_student else ())
 
-def _tasks(meta, where):
+
+def _tasks(meta, where, per_student=False):
+    """The ``(task, object, points)`` of the metadata's task list: those without ``per_student``, or with it."""
     tasks = meta.get("tasks")
     if not isinstance(tasks, list):
         raise AssignmentError(_("{where} has no task list (metadata 'lab' -> 'tasks'); is it a curvature-lab notebook?").format(
@@ -55,6 +66,8 @@ def _tasks(meta, where):
         if not isinstance(t, dict) or t.get("task") not in TASKS:
             raise AssignmentError(_("{where}: unknown task {task}; expected one of {tasks}").format(
                 where=where, task=repr(t), tasks=", ".join(TASKS)))
+        if bool(t.get("per_student", False)) != per_student:
+            continue
         obj, points = str(t.get("object", t["task"])), float(t.get("points", 1))
         if (t["task"], obj) in seen or not points >= 0:
             raise AssignmentError(_("{where}: task {task} on {object} is listed twice or has invalid points").format(
@@ -74,7 +87,7 @@ def load(path):
             path=path, error=f"{type(exc).__name__}: {exc}")) from None
     meta = nb.metadata.get("lab", {})
     return Assignment(str(meta.get("assignment", path.stem)), str(meta.get("title", path.stem)),
-                      _tasks(meta, str(path)), str(path))
+                      _tasks(meta, str(path)), str(path), _tasks(meta, str(path), per_student=True))
 
 
 def _lookup(where, key, lang):
@@ -134,10 +147,10 @@ def for_submission(nb, path, assignment=None):
     own = meta.get("tasks")
     if own is not None:
         try:
-            mine = _tasks(meta, str(path))
+            mine = (_tasks(meta, str(path)), _tasks(meta, str(path), per_student=True))
         except AssignmentError:
             mine = None
-        if mine != found.tasks:
+        if mine != (found.tasks, found.per_student):
             notes.append(_("the notebook's own task list differs from the assignment's; the assignment's is used"))
     return found, notes
 

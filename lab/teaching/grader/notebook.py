@@ -18,8 +18,18 @@ on the tasks of its assignment (the instructor's, :mod:`lab.teaching.grader.assi
 
 This process never runs student code and never writes the submission.  Every text that comes from the
 submission is cleaned before it is shown (:func:`lab.teaching.untrusted.clean`).
+
+**Per-student surfaces** (``variants``, the table of a per-student release, :mod:`lab.teaching.kernel.variants`):
+the assignment's per-student tasks are graded too, each on the cases of the student's own variant (the folder
+``SUBS/<student>``), with exact answers computed for that variant here.  Numbers a student reports
+(protocol ``"reported"``) are read from the notebook as written (:func:`lab.teaching.untrusted.reported_outcome`);
+numbers that are wrong for the student's own variant but right for classmates' are noted with the classmates'
+names (for the instructor's eyes only: :attr:`GradeResult.private_notes`, in ``summary.csv`` and the JSON
+report, never in what the student sees).  A student not in the table is graded on the common
+surface, with a note.  The graded run's ``lab.my_surface`` gives the student's own variant (``LAB_VARIANT``).
 """
 
+import copy
 import hashlib
 import importlib.metadata
 import json
@@ -44,9 +54,10 @@ from ..sandbox.bubblewrap import DISK, MEMORY, Sandbox
 from ..sandbox.withhold import prepare_package, withheld
 from ..task import build_report, judge_outcome
 from ..tasks import TASKS
-from ..untrusted import UntrustedError, clean, definitions, read_file, read_notebook
+from ..untrusted import UntrustedError, clean, definitions, read_file, read_notebook, reported_outcome
 from . import assignments as _assignments
 from .sandbox_output import InvalidResults, open_folder, read_cells, read_outcomes
+from .variants import classmates_numbers, per_student_hand_out, variant_notes
 
 __all__ = ["CAD_DISTRIBUTIONS", "MAX_NOTEBOOK", "VISIBILITY", "WITHHELD", "GradeResult", "Prepared", "grade_notebook",
            "hidden_modules", "read_submission", "submission_language"]
@@ -84,6 +95,9 @@ class GradeResult:
     sha256: str = ""
     #: The largest memory use of the whole submission (bytes, from its cgroup), or None where none was measured.
     peak_memory: int = None
+    #: Notes for the instructor only (another student's name): in the JSON report and summary.csv, never in the
+    #: text report, the feedback page or Gradescope's output.
+    private_notes: list = field(default_factory=list)
 
     @property
     def score(self):
@@ -103,7 +117,8 @@ class GradeResult:
                 "seed": self.seed, "score": self.score, "max_score": self.max_score, "passed": self.passed,
                 "tasks": self.tasks, "cell_errors": self.cell_errors, "notes": self.notes,
                 "missing_protections": self.missing_protections, "error": self.error,
-                "seconds": round(self.seconds, 2), "sha256": self.sha256, "peak_memory": self.peak_memory}
+                "seconds": round(self.seconds, 2), "sha256": self.sha256, "peak_memory": self.peak_memory,
+                "private_notes": self.private_notes}
 
     @classmethod
     def from_dict(cls, data):
@@ -197,38 +212,89 @@ class Prepared:
     """The cases and answers of one assignment for one run in one language (shared by its submissions).
 
     ``package``: the sandbox's copy of the library (:func:`prepare_package`); one copy serves an assignment
-    in every language.
+    in every language.  ``variants``: the table of a per-student release (:class:`lab.teaching.kernel.variants.Table`),
+    or None; with it the assignment's per-student tasks are graded too, each submission on its student's variant
+    (:meth:`for_student`).
     """
 
-    def __init__(self, assignment, seed, package):
+    def __init__(self, assignment, seed, package, variants=None):
         self.assignment, self.seed, self.lang = assignment, seed, i18n.language()  # case names are in this language
-        streams = np.random.SeedSequence(seed).spawn(len(assignment.tasks))
-        self.cases = [TASKS[name].make_cases(np.random.default_rng(s), True)
-                      for (name, _, _), s in zip(assignment.tasks, streams)]
+        self.variants, self.student, self.params = variants, None, {}
+        self.tasks = assignment.graded(per_student=variants is not None)
+        streams = np.random.SeedSequence(seed).spawn(len(self.tasks))  # the first ones: as without per-student tasks
+        self.cases = [TASKS[name].variant_cases(None, None) if TASKS[name].variant else
+                      TASKS[name].make_cases(np.random.default_rng(s), True)
+                      for (name, _, _), s in zip(self.tasks, streams)]
         self.package = Path(package)
         self.hide = hidden_modules(assignment)
         self._expected = None
         self._lock = threading.Lock()
+        self._shared, self._others = None, {}
 
     @staticmethod
     def package_for(assignment, workdir):
         """The sandbox's copy of the library for ``assignment``, in ``workdir``."""
-        return prepare_package(withheld([name for name, _, _ in assignment.tasks]), list(TASKS),
+        return prepare_package(withheld([name for name, _, _ in assignment.graded(per_student=True)]), list(TASKS),
                                Path(workdir) / f"pkg-{assignment.id}")
 
+    def for_student(self, student):
+        """These cases and answers for ``student``: the per-student tasks on the student's variant of the table (the
+        common surface for a student not in it, :attr:`params` then None); the others shared."""
+        if self.variants is None or not any(TASKS[name].variant for name, _, _ in self.tasks):
+            return self
+        view = copy.copy(self)
+        view.student, view.params, view._shared = student, {}, self
+        view._expected, view._lock, view.cases = None, threading.Lock(), list(self.cases)
+        for k, (name, _obj, _points) in enumerate(self.tasks):
+            task = TASKS[name]
+            if task.variant:
+                view.params[task.variant] = self.variants.params(student, task.variant)
+                view.cases[k] = task.variant_cases(student, view.params[task.variant])
+        return view
+
     def expected(self):
-        """The exact answers, per task and case (computed once, on first use)."""
+        """The exact answers, per task and case (computed once, on first use; a student's view computes those of
+        its per-student tasks and shares the others')."""
         with self._lock:
             if self._expected is None:
-                self._expected = [[TASKS[name].expected(c) for c in cases]
-                                  for (name, _, _), cases in zip(self.assignment.tasks, self.cases)]
+                shared = self._shared.expected() if self._shared is not None else None
+                self._expected = [shared[k] if shared is not None and not TASKS[name].variant else
+                                  [TASKS[name].expected(c) for c in cases]
+                                  for k, ((name, _, _), cases) in enumerate(zip(self.tasks, self.cases))]
             return self._expected
 
+    def owners(self, k, value):
+        """The other students of the table whose variant the numbers ``value`` answer right for task ``k`` (sorted);
+        their answers are computed once per run, in floating point (enough to tell the variants apart)."""
+        name = self.tasks[k][0]
+        task, root = TASKS[name], self._shared or self
+        with root._lock:
+            answers = root._others.get(name)
+            if answers is None:
+                answers = root._others[name] = {}
+                for student in sorted(self.variants.students):
+                    params = self.variants.params(student, task.variant)
+                    if params is not None:
+                        case = task.variant_cases(student, params, exact=False)[0]
+                        answers[student] = (case, task.expected(case))
+        found = []
+        for student, (case, exp) in answers.items():
+            if student != self.student:
+                try:
+                    if task.judge(case, value, exp)[0]:
+                        found.append(student)
+                except (ValueError, TypeError, IndexError, KeyError):
+                    continue
+        return found
+
     def spec(self, notebook, out, cell_timeout, case_timeout):
-        return {"notebook": str(notebook), "out": str(out), "cell_timeout": cell_timeout, "case_timeout": case_timeout,
+        spec = {"notebook": str(notebook), "out": str(out), "cell_timeout": cell_timeout, "case_timeout": case_timeout,
                 "tasks": [{"task": name, "object": obj, "protocol": TASKS[name].protocol,
-                           "cases": [encode_args(c.args) for c in cases]}
-                          for (name, obj, _), cases in zip(self.assignment.tasks, self.cases)]}
+                           "cases": [] if TASKS[name].protocol == "reported" else [encode_args(c.args) for c in cases]}
+                          for (name, obj, _), cases in zip(self.tasks, self.cases)]}
+        if self.student is not None:  # the graded run's lab.my_surface: the student's own variant
+            spec["variant"] = {"student": self.student, "variants": {a: p for a, p in self.params.items() if p}}
+        return spec
 
 
 def _under(text):
@@ -247,10 +313,11 @@ def read_submission(path):
     return raw, read_notebook(raw)
 
 
-def _zero_tasks(found, message):
-    """The assignment's tasks, each with 0 points and ``message`` (a notebook that could not be graded)."""
-    tasks = []
-    for name, obj, points in found.tasks:
+def _zero_tasks(found, message, tasks=None):
+    """The assignment's tasks (or ``tasks``), each with 0 points and ``message`` (a notebook that could not be
+    graded)."""
+    graded, tasks = found.tasks if tasks is None else tasks, []
+    for name, obj, points in graded:
         report = build_report(TASKS[name], [], [], graded=True)
         report.message = message
         tasks.append({**report.to_dict(), "object": obj, "points": points, "report": str(report)})
@@ -374,7 +441,8 @@ def _check_limits(timeout, check_timeout, total_timeout, memory, disk):
 
 
 def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeout=10.0, total_timeout=600,
-                   memory=MEMORY, disk=DISK, sandbox=None, prepared=None, submission=None):
+                   memory=MEMORY, disk=DISK, sandbox=None, prepared=None, submission=None, variants=None,
+                   student=None):
     """Grade one notebook in a sandbox; the file is only read.
 
     Parameters
@@ -396,6 +464,11 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
         Cases and answers shared by a folder run.
     submission : (bytes, notebook), optional
         What :func:`read_submission` gave, when the caller has read it already.
+    variants : lab.teaching.kernel.variants.Table, optional
+        The variants table of a per-student release: the assignment's per-student tasks are graded on ``student``'s
+        variant (see the module docstring).  A notebook of a per-student hand-out graded without it is an error.
+    student : str, optional
+        Whose variant (a folder run: the folder ``SUBS/<student>``).
     """
     _check_limits(timeout, check_timeout, total_timeout, memory, disk)
     start = time.perf_counter()
@@ -410,7 +483,8 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
         except _assignments.AssignmentError:
             found = None
         if found is not None:  # 0 out of the assignment's points, not 0 / 0
-            result.assignment, result.tasks = found.id, _zero_tasks(found, result.error)
+            result.assignment, result.tasks = found.id, _zero_tasks(
+                found, result.error, found.graded(per_student=variants is not None))
         return result
     result.sha256 = hashlib.sha256(raw).hexdigest()
     result.lang = submission_language(nb)
@@ -420,11 +494,23 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
         except _assignments.AssignmentError as exc:
             result.error = str(exc)
             return result
+        if variants is None and found.per_student and per_student_hand_out(nb):
+            result.assignment = found.id
+            result.error = _("this notebook comes from a per-student hand-out (variants table {table}): grade it "
+                             "with that table, curvature-lab grade --variants variants.json (the hand-out's)").format(
+                                 table=clean(per_student_hand_out(nb), 40, keep_newlines=False))
+            result.tasks = _zero_tasks(found, result.error, found.graded(per_student=True))
+            return result
+        if variants is not None and student is None:
+            raise ValueError("grading against a variants table needs the student whose variant it is")
         own = None
-        if prepared is None or prepared.assignment != found or prepared.lang != result.lang:
+        if prepared is None or prepared.assignment != found or prepared.lang != result.lang or \
+                prepared.variants is not variants:
             own = tempfile.mkdtemp(prefix="lab-grade-pkg-")
             prepared = Prepared(found, secrets.randbelow(2**32) if seed is None else int(seed),
-                                Prepared.package_for(found, own))
+                                Prepared.package_for(found, own), variants)
+        prepared = prepared.for_student(student)
+        result.notes += variant_notes(prepared, student)
         try:
             result.assignment, result.seed = found.id, prepared.seed
             outcomes, notes, invalid = _grade_in_sandbox(
@@ -438,10 +524,13 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
         defined = _defining_cells(nb)
         _explain_name_errors(defined, result.cell_errors)
         if invalid:
-            result.tasks = _zero_tasks(found, notes[-1])
-        for k, (name, obj, points) in enumerate(found.tasks if not invalid else ()):
+            result.tasks = _zero_tasks(found, notes[-1], prepared.tasks)
+        for k, (name, obj, points) in enumerate(prepared.tasks if not invalid else ()):
             task = TASKS[name]
             why = _undefined_message(defined, obj, result.cell_errors)
+            if task.protocol == "reported":  # numbers as written in the notebook, not as the run computed them
+                outcomes[k] = dict.fromkeys(range(len(prepared.cases[k])), reported_outcome(
+                    [c.source for c in nb.cells if c.cell_type == "code"], obj))
             judged = []
             for i, case in enumerate(prepared.cases[k]):
                 out = outcomes[k].get(i, {"status": "not run", "message": _("the graded run ended before this case")})
@@ -450,6 +539,8 @@ def grade_notebook(path, *, assignment=None, seed=None, timeout=60, check_timeou
                 judged.append(judge_outcome(task, case, out, lambda k=k, i=i: expected[k][i]))
             report = build_report(task, prepared.cases[k], judged, graded=True, seed=prepared.seed)
             result.tasks.append({**report.to_dict(), "object": obj, "points": points, "report": str(report)})
+            if task.variant and prepared.variants is not None and not report.passed:
+                result.private_notes += classmates_numbers(prepared, k, outcomes[k], student)
     result.seconds = time.perf_counter() - start
     return result
 

@@ -5,7 +5,9 @@ started by :mod:`lab.teaching.grader.notebook`.  SPEC names the notebook (a fres
 output folder, the time limits and the tasks with their cases' inputs (never their answers).  It executes
 every code cell (nbclient, each under the cell time limit; errors are recorded, not fatal), then for each
 task one harness cell (:mod:`lab.teaching.kernel.harness`) that appends the student's results to
-``OUT/task-K.jsonl``; cell errors go to ``OUT/cells.json``.
+``OUT/task-K.jsonl``; cell errors go to ``OUT/cells.json``.  SPEC's ``variant`` (a per-student release) is the
+student's own variant, handed to the kernel as ``LAB_VARIANT`` for ``lab.my_surface``; a task without cases
+(numbers the student reports, which the grader reads from the notebook) gets no harness cell.
 
 A cell that outlives its limit is interrupted; if the kernel ignores the interrupt (code that catches
 BaseException and ignores SIGINT), it is killed and a new kernel re-runs the cells that worked before, so
@@ -128,7 +130,8 @@ class Run:
     def _work(self):
         """The cells, then one harness cell per task: (kind, cell index or task index)."""
         return [("cell", i) for i in self.code_cells] + [("task", self._task_cell(k), k)
-                                                          for k in range(len(self.spec["tasks"]))]
+                                                          for k in range(len(self.spec["tasks"]))
+                                                          if self.spec["tasks"][k]["cases"]]  # none: reported numbers
 
     def _task_cell(self, k):
         """A new harness cell for task ``k`` (its source says from which case on when it runs)."""
@@ -215,6 +218,10 @@ def main(argv=None):
     spec_path = Path(argv[0])
     spec = json.loads(spec_path.read_text())
     spec["spec_path"] = str(spec_path)
+    if spec.get("variant"):  # the student's own variant, for lab.my_surface in the notebook's kernel
+        from .variants import ENV_VARIANT
+
+        os.environ[ENV_VARIANT] = json.dumps(spec["variant"])
     Run(spec).run()
     return 0
 

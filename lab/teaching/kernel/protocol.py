@@ -360,8 +360,11 @@ def call(protocol, obj, args):
 
     ``"function"``: ``obj(*args)``; ``"patches"``: ``obj`` is a subclass of lab.BezierPatches, built on the
     control nets ``args[0]`` and asked for ``visualize_curvature(args[1], args[2])``; ``"model"``: ``obj(model)``
-    on a :class:`lab.Model` built from ``args`` (see :func:`lab.teaching.tasks.models`).
+    on a :class:`lab.Model` built from ``args`` (see :func:`lab.teaching.tasks.models`); ``"reported"``: ``obj`` is
+    the numbers themselves (the grader reads them from the notebook as written, the check takes the value).
     """
+    if protocol == "reported":
+        return encode(obj)
     if protocol == "function":
         if not callable(obj):
             raise TypeError(_("expected a function; got {kind}").format(kind=type(obj).__name__))

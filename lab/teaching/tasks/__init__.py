@@ -15,6 +15,7 @@ __all__ = ["ANALYTIC_BLOCK", "TASKS"]
 MODULES = {"warmup": "curvature", "curve_curvature": "curvature", "fundamental_forms": "curvature",
            "curvatures": "curvature", "derivative_nets": "curvature", "corner_derivatives": "curvature",
            "h": "colors", "f1": "colors", "f2": "colors", "f3": "colors", "visualize_curvature": "colors",
+           "own_surface": "variants",
            "focal_points": "interrogation", "reflect": "interrogation", "christoffel": "interrogation",
            "start_velocity": "interrogation", "signed_area": "trimming", "developable_faces": "models",
            "principal_directions": "smoothness"}
