@@ -11,6 +11,8 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
+from packaging.requirements import Requirement
+
 HERE = Path(__file__).resolve().parent
 ROOTS = ("curvature-lab[cad]", "nbgitpuller")
 
@@ -20,7 +22,7 @@ def _name(requirement):
 
 
 def closure(roots=ROOTS):
-    """``{name: version}`` of the installed distributions the roots need (markers of extras left out)."""
+    """``{name: version}`` of the installed distributions the roots need (requirements whose markers do not hold here, for another Python or an extra not asked for, left out)."""
     seen, todo = {}, [r.lower() for r in roots]
     while todo:
         root = todo.pop()
@@ -34,8 +36,9 @@ def closure(roots=ROOTS):
             continue
         seen[name] = dist.version
         for req in dist.requires or []:
-            wanted = re.search(r"extra\s*==\s*['\"]([^'\"]+)['\"]", req)
-            if wanted and wanted.group(1) not in extras:
+            marker = Requirement(req).marker
+            # a requirement for another Python (importlib-metadata before 3.10) or an extra not asked for is not needed
+            if marker is not None and not any(marker.evaluate({"extra": e}) for e in extras | {""}):
                 continue
             todo.append(_name(req))
     seen.pop("curvature-lab", None)

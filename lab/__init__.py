@@ -115,6 +115,8 @@ _NAMES = {
     "lab.view.explorers": ("CurvatureExplorer", "FocalExplorer", "GeodesicExplorer", "ReflectionExplorer"),
     "lab.i18n": ("set_language", "language"),
     "lab.teaching.kernel.exercise_mode": ("exercise_mode",),
+    "lab.teaching.kernel.variants": ("my_surface",),
+    "lab.teaching.course.mark": ("mark",),
 }
 _ATTRIBUTES = {name: module for module, names in _NAMES.items() for name in names}
 

@@ -136,3 +136,28 @@ def test_a_german_feedback_page_writes_decimal_commas():
             "passed": False, "report": "", "message": "", "cases": []}
     page = feedback.render(GradeResult("bea/05.ipynb", assignment=ID, lang="de", tasks=[task]))
     assert "2,22 von 10 Punkten" in page and "(MyBezierPatches): 2,22 / 10</h2>" in page, page
+
+
+def test_written_marks_and_comments_on_the_page_in_the_students_language(tmp_path, homes, capsys):
+    """feedback --written: each written answer's points and the marker's comment (markup shown as text), under the
+    question's title in the student's language; an answer not marked yet says so."""
+    aid = "04_color_maps"
+    german = result("bob", assignment=aid, score=1.0)
+    german.lang = "de"
+    reports = report_folder(tmp_path / "reports", result("ada", assignment=aid, score=1.0), german)
+    marks = tmp_path / f"written-{aid}.csv"
+    marks.write_text("student,assignment,question,title,max_points,points,comment,answer\n"
+                     f"ada,{aid},bfbc93a2,Question: advantages and disadvantages,3,\"2,5\",<b>good</b> but f3?,x\n"
+                     f"bob,{aid},bfbc93a2,Question: advantages and disadvantages,3,,,y\n")
+    assert feedback.main([str(reports), str(homes), "--written", str(marks)]) == 0
+    ada = (homes / "ada" / "feedback" / f"{aid}.html").read_text()
+    assert "<h2>Written answers: 2.5 of 3 points</h2>" in ada
+    assert "<h3>Question: advantages and disadvantages: 2.5 / 3</h3>" in ada
+    assert "&lt;b&gt;good&lt;/b&gt; but f3?" in ada and "<b>good</b>" not in ada
+    bob = (homes / "bob" / "feedback" / f"{aid}.html").read_text()
+    assert "<h2>Schriftliche Antworten: 0 von 3 Punkten</h2>" in bob
+    assert "<h3>Frage: Vor- und Nachteile: noch nicht bewertet</h3>" in bob
+    bad = tmp_path / "bad.csv"
+    bad.write_text(f"student,assignment,question,title,max_points,points\nada,{aid},q,T,3,4\n")
+    assert feedback.main([str(reports), str(homes), "--written", str(bad)]) == 2
+    assert f"{bad}, line 2: 4 points for question q of ada; expected 0 … 3" in capsys.readouterr().err

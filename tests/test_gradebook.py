@@ -131,3 +131,26 @@ def test_gradebook_refuses_written_points_without_their_reports(tmp_path, capsys
     assert gradebook.main([str(reports05), str(reports04), "--written", str(marks), "--written", str(marks),
                            "-o", str(out)]) == 2
     assert f"ada's written points of 04_color_maps are in {marks} and in {marks}" in capsys.readouterr().err
+
+
+def test_per_question_columns_for_an_item_analysis(tmp_path, capsys):
+    """--per-question: a column per graded task (its points as graded) and per written question (the marked points,
+    a spreadsheet's decimal comma too), with their maxima in the (max) row; refused for an LMS layout."""
+    reports = report_folder(tmp_path / "r", result("ada", score=0.75), result("bob", score=1.0))
+    marks = text_file(tmp_path / "written.csv", "student,assignment,question,title,max_points,points\n"
+                                                f"ada,{ID},q1,Why the corners?,3,\"2,5\"\nbob,{ID},q1,Why the corners?,3,\n"
+                                                f"ada,{ID},q2,=Which map,2,1\nbob,{ID},q2,=Which map,2,2\n")
+    out = tmp_path / "g.csv"
+    assert gradebook.main([str(reports), "--written", str(marks), "--per-question", "-o", str(out)]) == 0
+    lines = list(csv.reader(io.StringIO(out.read_text())))
+    head = lines[0]
+    items = [f"{ID}: visualize_curvature", f"{ID}: Why the corners? (written)", f"{ID}: =Which map (written)"]
+    assert head[5:8] == items  # after the assignment's four columns
+    table = {r[0]: dict(zip(head, r)) for r in lines[1:]}
+    assert [float(table[gradebook.MAX_ROW][c]) for c in items] == [10, 3, 2]
+    assert [table["ada"][c] for c in items] == ["7.5", "2.5", "1.0"]
+    assert [table["bob"][c] for c in items] == ["10.0", "", "2.0"]  # bob's first question not marked yet: empty
+    assert float(table["ada"]["total"]) == 7.5 + 3.5 and float(table["ada"]["max"]) == 15
+    with pytest.raises(SystemExit):
+        gradebook.main([str(reports), "--per-question", "--format", "canvas", "-o", str(out)])
+    assert "--per-question needs --format csv" in capsys.readouterr().err

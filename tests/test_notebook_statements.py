@@ -85,7 +85,7 @@ def test_05_the_ranges_the_text_and_the_readme_state():
     from lab.view.gallery import PICTURES
 
     text = next(caption for name, _options, caption in PICTURES if name == "practical_gaussian_linear.png")
-    caption = re.search(r"the bump's top \(K ≈ (\d+) at the corners\).*?K\s+from (\S+) to (\S+), is blue", text,
+    caption = re.search(r"[Tt]he bump's top \(K ≈ (\d+) at the corners\).*?K\s+from (\S+) to (\S+), is blue", text,
                         re.DOTALL)
     assert caption, "the caption of the practical's picture"
     assert int(caption.group(1)) == round(ranges[1][1])

@@ -1,6 +1,6 @@
 """The language of the lab's messages (English or German) through gettext; catalogues in ``locale/<lang>``.
 The lowest layer: imports nothing of lab.  ``_("text")`` translates, ``set_language("de")`` chooses
-(default: ``LAB_LANG``, else English); ``lab.po`` files are extracted with Babel (see the README).
+(default: ``LAB_LANG``, else English); ``lab.po`` files are extracted with Babel (the site, Instructors → "Authoring notebooks and translations").
 """
 
 import contextlib

@@ -1,4 +1,4 @@
-"""Real parts to interrogate, from the packages the installation brings (origins and licences: README, "Real parts").
+"""Real parts to interrogate, from the packages the installation brings (origins and licences: the site, Library → "Real parts").
 
 - OpenCASCADE's sample data (Debian's ``occt-misc``, LGPL-2.1 with OCCT's exception), in
   ``/usr/share/opencascade/data`` or the folder ``LAB_OCC_DATA`` names: :func:`wing`, :func:`shell`,

@@ -69,7 +69,7 @@ from ..grader.assignments import DEFAULT_FOLDER
 from ..grader.notebook import MAX_NOTEBOOK
 from ..untrusted import MAX_CELLS, UntrustedError, clean, csv_cell, loads
 from . import written
-from .files import COLLECTED_COLUMNS, read_collected, write_atomic
+from .files import COLLECTED_COLUMNS, read_collected, read_roster, write_atomic
 
 __all__ = ["COLLECTED_COLUMNS", "CollectError", "collect", "find_notebook", "main", "parse_deadline"]
 
@@ -307,16 +307,8 @@ def _students(homes_fd, roster):
 
 
 def _read_roster(path):
-    """User names from a file: one per line, or a CSV with a column ``username`` (or ``student``, ``login``)."""
-    text = Path(path).read_text()
-    rows = list(csv.reader(io.StringIO(text)))
-    if rows and len(rows[0]) > 1:
-        head = [h.strip().lower() for h in rows[0]]
-        col = next((head.index(k) for k in ("username", "student", "login", "sis login id") if k in head), None)
-        if col is None:
-            raise CollectError(f"{path}: a CSV roster needs a column 'username'; got {rows[0]}")
-        return [r[col].strip() for r in rows[1:] if len(r) > col and r[col].strip()]
-    return [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
+    """User names from a roster file (:func:`lab.teaching.course.files.read_roster`)."""
+    return read_roster(path, CollectError)
 
 
 def _find_in(homes_fd, student, assignment_id, handed_out=frozenset()):
@@ -404,7 +396,7 @@ def _collect(homes_fd, assignment_id, deadline, out_dir, roster, exercises, log)
     write_atomic(out_dir / "collected.csv", buf.getvalue())
     if questions:
         lang = (exercise_nb.metadata.get("lab") or {}).get("lang", "en")
-        written.collect_answers(out_dir, assignment_id, exercise_nb, answers, lang)
+        written.collect_answers(out_dir, assignment_id, exercise_nb, answers, lang, log=log)
     missing = [r["student"] for r in rows if r["status"] != "collected"]
     print(_("collected {n} of {total}: {late} late; without a submission: {names}").format(
         n=len(plan), total=len(rows), late=sum(r["late"] is True for r in rows),

@@ -16,6 +16,10 @@ only when it is exactly such a page: one the student edited or wrote (or a page 
 kept, and the new page goes next to it with a number (``<assignment>.2.html``).  A stamp a student forges makes
 the command replace that file only, never another.
 
+With ``--written FILE`` (a ``written-<id>.csv`` marked with ``curvature-lab mark`` or a spreadsheet, repeatable) the
+page also shows each written answer's points and the marker's comment, under the question's title in the student's
+language; an answer not marked yet says so.
+
 A late student's page says how late the notebook was handed in (``late_seconds`` in the report folder's
 ``summary.csv``) and, given the gradebook's ``--late-penalty`` (``--late-cap``, ``--grace``), the penalty.
 
@@ -35,13 +39,17 @@ import os
 import sys
 from pathlib import Path
 
+import nbformat
+
 from ... import i18n
 from ...i18n import N_, _
+from ..grader.assignments import DEFAULT_FOLDER
 from ..grader.notebook import GradeResult
 from ..untrusted import UntrustedError, clean, file_name, loads, open_folder, read_file, student_id, write_at
 from .files import one_per_student, summary_rows
 from .late import add_late_options, late_policy
 from .pages import STATUS_COLOURS, e, page
+from .written import questions_of, read_rows, read_written
 
 __all__ = ["GENERATOR", "STAMP", "FeedbackError", "feedback", "main", "render", "stamped", "write_into_home"]
 
@@ -102,9 +110,38 @@ def _lateness(late_seconds, policy, score):
     return i18n.decimal(text)
 
 
-def render(result, late_seconds=None, policy=None):
+def _written_section(rows, lang, assignment):
+    """The written answers' marks of one student (rows of a marked ``written-<id>.csv``), as HTML."""
+    titles = {q.cell: q.title for q in _questions(assignment, lang)}
+    got = sum(float(i18n.parse_number(r["points"])) for r in rows if r["points"].strip())
+    top = sum(float(i18n.parse_number(r["max_points"] or 0)) for r in rows)
+    head = i18n.decimal(_("Written answers: {score} of {max} points").format(score=f"{got:g}", max=f"{top:g}"))
+    parts = [f"<section><h2>{e(head)}</h2>"]
+    for r in rows:
+        title = titles.get(r.get("question", ""), r.get("title", ""))
+        if r["points"].strip():
+            mark = i18n.decimal(f"{i18n.parse_number(r['points']):g} / {i18n.parse_number(r['max_points'] or 0):g}")
+        else:
+            mark = _("not marked yet")
+        parts.append(f"<h3>{e(clean(title, 200))}: {e(mark)}</h3>")
+        if r.get("comment", "").strip():
+            parts.append(f"<div class='a'>{e(clean(r['comment'], 5000))}</div>")
+    parts.append("</section>")
+    return "".join(parts)
+
+
+def _questions(assignment, lang):
+    """The questions of the assignment's exercise in ``lang`` (for their titles), or []."""
+    path = Path(DEFAULT_FOLDER) / lang / f"{assignment}.ipynb"
+    if not path.is_file():
+        return []
+    return questions_of(nbformat.read(str(path), as_version=4))
+
+
+def render(result, late_seconds=None, policy=None, written=()):
     """The feedback page of a :class:`~lab.teaching.grader.notebook.GradeResult`, in its language; ``late_seconds`` after
-    the deadline and the :class:`~lab.teaching.course.late.LatePolicy` (or None: no penalty stated)."""
+    the deadline and the :class:`~lab.teaching.course.late.LatePolicy` (or None: no penalty stated); ``written``: the
+    student's rows of a marked ``written-<id>.csv`` of this assignment."""
     with i18n.using(result.lang):
         title = _("Feedback: {assignment}").format(assignment=result.assignment or result.notebook)
         score = i18n.decimal(_("{score} of {max} points").format(score=f"{result.score:g}", max=f"{result.max_score:g}"))
@@ -119,6 +156,8 @@ def render(result, late_seconds=None, policy=None):
                         f"<pre>{e(clean(t.get('message', '')))}</pre>")
             body.append(_case_table(t))
             body.append("</section>")
+        if written:
+            body.append(_written_section(written, result.lang, result.assignment))
         notes = [clean(n) for n in result.notes] + [
             _("cell {index}: {error}").format(index=x["cell"], error=clean(x["error"]))
             for x in result.cell_errors if x.get("kind") not in ("withheld", "follows")]
@@ -237,12 +276,25 @@ def _shown(student):
     return f"'{clean(student, 100, keep_newlines=False)}'"
 
 
-def feedback(reports, homes, *, late=None, log=None):
+def _marks(paths):
+    """``{(student, assignment): [row, …]}`` of marked ``written-<id>.csv`` files, checked as the gradebook checks
+    them (a ``ValueError`` names the file and line)."""
+    out = {}
+    for path in paths:
+        read_written(path)  # numbers, and points within 0 … max
+        for row in read_rows(path)[1]:
+            out.setdefault((row["student"], row["assignment"]), []).append(row)
+    return out
+
+
+def feedback(reports, homes, *, late=None, log=None, written=()):
     """Put every report of the folders ``reports`` into its student's home under ``homes``; returns the paths.
 
     ``late``: the gradebook's :class:`~lab.teaching.course.late.LatePolicy`, for the penalty on a late student's page.
-    ``log``: where a student's skipped page is said (default: stderr).
+    ``log``: where a student's skipped page is said (default: stderr).  ``written``: marked ``written-<id>.csv``
+    files whose points and comments the pages show.
     """
+    marks = _marks(written)
     log = sys.stderr if log is None else log
     homes = Path(homes)
     try:
@@ -250,12 +302,12 @@ def feedback(reports, homes, *, late=None, log=None):
     except OSError:
         raise FeedbackError(f"{homes} is not a folder of homes") from None
     try:
-        return _feedback(reports, homes, homes_fd, late, log)
+        return _feedback(reports, homes, homes_fd, late, log, marks)
     finally:
         os.close(homes_fd)
 
 
-def _feedback(reports, homes, homes_fd, late, log):
+def _feedback(reports, homes, homes_fd, late, log, marks):
     folders = reports if isinstance(reports, (list, tuple)) else [reports]
     items = [(folder, res.student, res.assignment, score, (res, seconds))
              for folder, res, score, seconds in _reports(folders, log)]
@@ -286,7 +338,7 @@ def _feedback(reports, homes, homes_fd, late, log):
             continue
         try:
             try:
-                text = render(result, late_seconds, late)
+                text = render(result, late_seconds, late, marks.get((result.student, result.assignment), ()))
             except Exception as exc:  # noqa: BLE001 - one student's damaged report never stops the others
                 say(_("{student}: the page could not be made: {error}").format(
                     student=student, error=clean(f"{type(exc).__name__}: {exc}", 300, keep_newlines=False)))
@@ -309,10 +361,12 @@ def main(argv=None):
                       "gradebook's --late-penalty, the penalty."))
     parser.add_argument("reports", nargs="+", metavar="REPORTS", help=_("report folders written by curvature-lab grade"))
     parser.add_argument("homes", metavar="HOMES", help=_("folder of the students' homes, one per user name (e.g. /home)"))
+    parser.add_argument("--written", action="append", default=[],
+                        help=_("a marked written-<id>.csv: its points and comments on the pages (repeatable)"))
     add_late_options(parser, penalty=None)
     args = parser.parse_args(argv)
     try:
-        feedback(args.reports, args.homes, late=late_policy(args))
+        feedback(args.reports, args.homes, late=late_policy(args), written=args.written)
     except (FeedbackError, OSError, ValueError) as exc:
         print(f"curvature-lab feedback: error: {exc}", file=sys.stderr)
         return 2

@@ -22,6 +22,10 @@ notebooks of an assignment gets the better score.
 Names are the raw user names everywhere (``'bea`` and ``bea`` are two students); a cell is quoted only when
 written (:func:`~lab.teaching.untrusted.csv_cell`) and read back through :func:`~lab.teaching.untrusted.csv_value`.
 
+``--per-question`` adds, for an item analysis, a column per graded task (``<id>: <task>``, its points as graded,
+before any late penalty; a task is the group of cases its points come from) and per written question
+(``<id>: <question title> (written)``, the marked points) to the ``csv`` layout, after the assignment's columns.
+
 Formats:
 
 * ``csv``: ``student``, then per assignment its points, ``<id> late days``, ``<id> status`` (``submitted``;
@@ -44,16 +48,17 @@ import argparse
 import csv
 import io
 import math
+import re
 import sys
 from pathlib import Path
 
-from ...i18n import _
+from ...i18n import _, parse_number
 from ..untrusted import clean, csv_cell
 from .files import one_per_student, summary_rows, write_atomic
 from .late import LatePolicy, add_late_options, late_policy
-from .written import read_written
+from .written import read_rows, read_written
 
-__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "conflict_note", "gradebook", "main", "read_roster"]
+__all__ = ["FORMATS", "MAX_ROW", "GradebookError", "conflict_note", "gradebook", "main", "per_question", "read_roster"]
 
 FORMATS = ("csv", "canvas", "moodle")
 #: The first row of the ``csv`` layout, the points possible: not a user name (a student may be called max).
@@ -147,6 +152,36 @@ def _marks(written, found):
     return marks
 
 
+#: A task's points in a summary's ``tasks`` cell: ``name=points/max`` separated by ``; ``.
+_TASK = re.compile(r"\s*([^=;]+?)=([-+0-9.eE]+)/([-+0-9.eE]+)\s*(?:;|$)")
+
+
+def per_question(folders, written=()):
+    """``(columns, {column: max}, {(student, column): points})`` of the per-question columns: every graded task
+    of every assignment and every written question (see the module docstring)."""
+    found = _assignments(folders)
+    columns, maxima, points = [], {}, {}
+    for aid, entry in sorted(found.items()):
+        for student, row in entry["rows"].items():
+            if student in entry["notes"]:
+                continue
+            for name, got, top in _TASK.findall(row.get("tasks") or ""):
+                column = f"{aid}: {name}"
+                if column not in maxima:
+                    columns.append(column)
+                maxima[column] = max(maxima.get(column, 0.0), float(top))
+                points[(student, column)] = float(got)
+    for path in written:
+        for row in read_rows(path)[1]:
+            column = f"{row['assignment']}: {row.get('title') or row.get('question')} (written)"
+            if column not in maxima:
+                columns.append(column)
+            maxima[column] = max(maxima.get(column, 0.0), parse_number(row.get("max_points") or 0))
+            if (row.get("points") or "").strip():
+                points[(row["student"], column)] = parse_number(row["points"])
+    return columns, maxima, points
+
+
 def gradebook(folders, *, late=None, written=(), roster=None):
     """``(assignment ids, {aid: max}, rows)``: per student ``{"student", aid: points, aid + " late days",
     aid + " status", aid + " note", "total"}``."""
@@ -178,17 +213,22 @@ def gradebook(folders, *, late=None, written=(), roster=None):
     return sorted(found), maxima, rows
 
 
-def _write(fmt, ids, maxima, rows, roster):
+def _write(fmt, ids, maxima, rows, roster, items=None):
+    """The file's text; ``items``: the :func:`per_question` columns (csv layout only)."""
     roster = roster or {}
+    columns_max, points = (items[1], items[2]) if items else ({}, {})
+    items = items[0] if items else []
     buf = io.StringIO()
     w = csv.writer(buf)
     max_total = round(sum(maxima.values()), 2)
     if fmt == "csv":
-        columns = [c for aid in ids for c in (aid, f"{aid} late days", f"{aid} status", f"{aid} note")]
+        columns = [c for aid in ids for c in (aid, f"{aid} late days", f"{aid} status", f"{aid} note")] + items
         w.writerow([csv_cell(c) for c in ["student"] + columns + ["total", "max"]])
-        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "", "", "")] + [max_total, max_total])
+        w.writerow([MAX_ROW] + [c for aid in ids for c in (maxima[aid], "", "", "")] + [columns_max[c] for c in items]
+                   + [max_total, max_total])
         for r in rows:
-            w.writerow([csv_cell(r["student"])] + [csv_cell(r[c]) for c in columns] + [r["total"], max_total])
+            w.writerow([csv_cell(r["student"])] + [csv_cell(r[c]) for c in columns[:4 * len(ids)]]
+                       + [points.get((r["student"], c), "") for c in items] + [r["total"], max_total])
     elif fmt == "canvas":
         w.writerow(["Student", "ID", "SIS User ID", "SIS Login ID", "Section"] + [csv_cell(aid) for aid in ids])
         w.writerow(["Points Possible", "", "", "", ""] + [maxima[aid] for aid in ids])
@@ -218,11 +258,17 @@ def main(argv=None):
     parser.add_argument("--written", action="append", default=[], help=_("a marked written-<id>.csv (repeatable)"))
     add_late_options(parser)
     parser.add_argument("--roster", help=_("Canvas's gradebook export or a CSV with 'username' (names, ids, sections)"))
+    parser.add_argument("--per-question", action="store_true",
+                        help=_("a column per graded task and per written question too (csv layout), for an item "
+                               "analysis"))
     args = parser.parse_args(argv)
+    if args.per_question and args.format != "csv":
+        parser.error(_("--per-question needs --format csv (Canvas and Moodle would make each column an assignment)"))
     try:
         roster = read_roster(args.roster) if args.roster else None
         ids, maxima, rows = gradebook(args.reports, late=late_policy(args), written=args.written, roster=roster)
-        write_atomic(args.output, _write(args.format, ids, maxima, rows, roster))
+        items = per_question(args.reports, args.written) if args.per_question else None
+        write_atomic(args.output, _write(args.format, ids, maxima, rows, roster, items))
     except (GradebookError, ValueError, OSError) as exc:
         print(f"curvature-lab gradebook: error: {exc}", file=sys.stderr)
         return 2

@@ -10,22 +10,29 @@ after it are added to the answer).
 :func:`collect_answers` writes, for one assignment, ``written-<id>.html`` (every question with every
 student's answer below it, escaped, so one question is marked for the whole class at once) and
 ``written-<id>.csv`` (a row per student and question: ``question`` its cell id, ``title`` its first line,
-``points`` and ``comment`` empty, for the instructor; ``max_points`` from the metadata).  ``curvature-lab
-gradebook --written FILE`` adds the points; a spreadsheet's decimal comma (``2,5``) and semicolon-separated
-file are read too.
+``points`` and ``comment`` empty, for the instructor; ``max_points`` from the metadata).  The instructor marks
+it with ``curvature-lab mark`` (:mod:`lab.teaching.course.mark`) or in a spreadsheet; ``curvature-lab gradebook
+--written FILE`` adds the points, and ``curvature-lab feedback --written FILE`` shows them with the comments; a
+spreadsheet's decimal comma (``2,5``) and semicolon-separated file are read too.  Collecting again keeps every
+mark of an answer that did not change; the marks of answers that changed are set aside, never applied to the new
+text: the marked file is kept as ``written-<id>.marked-<time>.csv`` and the students are named.
 """
 
 import csv
 import io
+import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from ...i18n import _, decimal, language, parse_number, using
 from ..untrusted import clean, csv_cell, csv_value
 from .exercises import ANSWER_PLACEHOLDER
+from .files import write_atomic
 from .pages import e, page
 
-__all__ = ["WRITTEN_COLUMNS", "Question", "answers_of", "collect_answers", "questions_of", "read_written"]
+__all__ = ["WRITTEN_COLUMNS", "Question", "answers_of", "collect_answers", "questions_of", "read_rows", "read_written",
+           "sheet_text"]
 
 WRITTEN_COLUMNS = ("student", "assignment", "question", "title", "max_points", "points", "comment", "answer")
 _PLACEHOLDERS = {p.strip() for p in ANSWER_PLACEHOLDER.values()}
@@ -89,20 +96,54 @@ def _rows(assignment_id, questions, answers_by_student):
                    "max_points": q.points, "points": "", "comment": "", "answer": answers.get(q.cell, "")}
 
 
-def collect_answers(out_dir, assignment_id, exercise_nb, answers_by_student, lang="en"):
+def sheet_text(rows, columns=WRITTEN_COLUMNS):
+    """The text of a ``written-<id>.csv`` with ``rows`` (dicts of ``columns``), every cell through
+    :func:`~lab.teaching.untrusted.csv_cell`."""
+    buf = io.StringIO()
+    writer = csv.writer(buf)
+    writer.writerow(columns)
+    for row in rows:
+        writer.writerow([csv_cell(row.get(c, "")) for c in columns])
+    return buf.getvalue()
+
+
+def _keep_marks(csv_path, rows, log):
+    """Carry the marks of ``csv_path`` (a marked sheet of an earlier collect) over to ``rows`` where the answer is
+    unchanged; where a marked answer changed, keep the old sheet under another name and say so."""
+    if not csv_path.is_file():
+        return
+    _fields, old = read_rows(csv_path)
+    marks = {(r.get("student"), r.get("question")): r for r in old if (r.get("points") or r.get("comment") or "").strip()}
+    changed = []
+    for row in rows:
+        mark = marks.get((row["student"], row["question"]))
+        if mark is None:
+            continue
+        if csv_value(csv_cell(row["answer"])) == mark.get("answer", ""):
+            row["points"], row["comment"] = mark.get("points", ""), mark.get("comment", "")
+        else:
+            changed.append(f"{row['student']} ({row['title']})")
+    if changed:
+        kept = csv_path.with_name(f"{csv_path.stem}.marked-{time.strftime('%Y%m%d-%H%M%S')}.csv")
+        csv_path.replace(kept)
+        print(_("{n} marked written answers changed since they were marked; their marks are not carried over and the "
+                "marked sheet is kept as {file}: {names}").format(n=len(changed), file=kept.name,
+                                                                  names=", ".join(clean(c, 100) for c in changed)),
+              file=log)
+
+
+def collect_answers(out_dir, assignment_id, exercise_nb, answers_by_student, lang="en", log=None):
     """Write ``written-<id>.html`` and ``written-<id>.csv`` into ``out_dir``; returns their paths (or () without
-    questions).  ``answers_by_student``: ``{student: {cell id: text}}``; ``exercise_nb``: the instructor's."""
+    questions).  ``answers_by_student``: ``{student: {cell id: text}}``; ``exercise_nb``: the instructor's.  The
+    marks of an earlier sheet are kept where the answer is unchanged (the module docstring)."""
     questions = questions_of(exercise_nb)
     if not questions:
         return ()
     out_dir = Path(out_dir)
-    buf = io.StringIO()
-    writer = csv.writer(buf)
-    writer.writerow(WRITTEN_COLUMNS)
-    for row in _rows(assignment_id, questions, answers_by_student):
-        writer.writerow([csv_cell(row[c]) for c in WRITTEN_COLUMNS])
     csv_path = out_dir / f"written-{assignment_id}.csv"
-    csv_path.write_text(buf.getvalue())
+    rows = list(_rows(assignment_id, questions, answers_by_student))
+    _keep_marks(csv_path, rows, sys.stderr if log is None else log)
+    write_atomic(csv_path, sheet_text(rows))
     html_path = out_dir / f"written-{assignment_id}.html"
     with using(lang):
         html_path.write_text(_page(assignment_id, questions, answers_by_student))
@@ -126,28 +167,38 @@ def _page(assignment_id, questions, answers_by_student):
     return page(title, "".join(parts), language())
 
 
-def read_written(path):
-    """``{(student, assignment): (points, max points)}`` summed over the questions of a marked ``written-*.csv``.
-
-    A row whose ``points`` is empty counts 0 (unmarked); points outside ``0 … max_points`` are refused.  Read as a
-    spreadsheet saves it too: a decimal comma (``2,5``), cells separated by semicolons, a byte order mark.  Every
-    cell is read back through :func:`~lab.teaching.untrusted.csv_value` (the student ``'bea``, written ``''bea``,
-    is ``'bea``, not ``bea``).
-    """
+def read_rows(path):
+    """``(columns, rows)`` of a ``written-<id>.csv``: its header and its rows as dicts of text, each cell read back
+    through :func:`~lab.teaching.untrusted.csv_value` (the student ``'bea``, written ``''bea``, is ``'bea``).  Read as
+    a spreadsheet saves it too: cells separated by semicolons, a byte order mark.  A ``ValueError`` names a missing
+    column or a row with more cells than the header."""
     with open(path, newline="", encoding="utf-8-sig") as fh:
         text = fh.read()
     head = text.split("\n", 1)[0]
-    reader = csv.DictReader(io.StringIO(text), delimiter=";" if ";" in head and "," not in head else ",")
-    if missing := {"student", "assignment", "max_points", "points"} - set(reader.fieldnames or ()):
+    lines = io.StringIO(text)
+    reader = csv.DictReader(lines, delimiter=";" if ";" in head and "," not in head else ",")
+    columns = list(reader.fieldnames or ())
+    if missing := {"student", "assignment", "max_points", "points"} - set(columns):
         raise ValueError(f"{path}: no column {', '.join(sorted(missing))} (is it a written-<id>.csv of curvature-lab "
                          "collect?)")
-    totals = {}
+    rows = []
     for raw in reader:
-        n = reader.line_num
-        row = {k: (v if k is None else csv_value(v)) for k, v in raw.items()}
-        if None in row:  # more cells than columns: an unquoted 2,5 in a comma-separated file
-            raise ValueError(f"{path}, line {n}: more cells than the header has columns; write 2.5, or \"2,5\" in "
-                             "quotes, in a comma-separated file")
+        if None in raw:  # more cells than columns: an unquoted 2,5 in a comma-separated file
+            raise ValueError(f"{path}, line {reader.line_num}: more cells than the header has columns; write 2.5, or "
+                             "\"2,5\" in quotes, in a comma-separated file")
+        rows.append({k: csv_value(v) for k, v in raw.items()} | {"line": reader.line_num})
+    return columns, rows
+
+
+def read_written(path):
+    """``{(student, assignment): (points, max points)}`` summed over the questions of a marked ``written-*.csv``.
+
+    A row whose ``points`` is empty counts 0 (unmarked); points outside ``0 … max_points`` are refused.  A
+    spreadsheet's decimal comma (``2,5``) is read too (:func:`read_rows`).
+    """
+    totals = {}
+    for row in read_rows(path)[1]:
+        n = row["line"]
         try:
             top = parse_number(row["max_points"] or 0)
             got = parse_number(row["points"]) if (row["points"] or "").strip() else 0.0
