@@ -127,7 +127,7 @@ API = (("geometry", "Formulas on arrays: curvature, directions, colour maps, der
        ("interrogation", "Focal surfaces, reflection lines, geodesics, trimming, continuity, combs, umbilics, CAD parts."),
        ("view", "Pictures and the live explorers."),
        ("i18n", "The language of the lab's messages."),
-       ("teaching", "Exercise mode."))
+       ("teaching", "Exercise mode, a student's own surface, and the marking panel."))
 
 
 def _api():
