@@ -66,6 +66,7 @@ MODULES = {
     "bezier": "lab.geometry.bezier",
     "bspline": "lab.geometry.bspline",
     "colormaps": "lab.geometry.colormaps",
+    "vision": "lab.geometry.vision",
     "curvature": "lab.geometry.curvature",
     "derivatives": "lab.geometry.derivatives",
     "directions": "lab.geometry.directions",

@@ -16,6 +16,13 @@ Dill's figure 6; :func:`symmetric`, :func:`percentile` and :func:`signed_log`
 are our answers to the practical's question "Entwerfen Sie selbst andere
 sinnvolle Funktionen".  Every map takes an array of values and returns
 colours of shape ``values.shape + (3,)``.
+
+Beside the practical's maps, which keep the ramp :math:`h`, five maps keep a normalisation and replace
+:math:`h` by one of Crameri's scientific colour maps (:mod:`lab.geometry.palettes`), readable with a
+colour-vision deficiency (measured in :mod:`lab.geometry.vision`): ``linear-batlow`` (f2, batlow),
+``symmetric-vik`` and ``signed-log-vik`` (zero in vik's white middle), ``classification-vik`` (f3 in navy,
+near-white and burnt orange) and ``dill-batlow`` (Dill's bands in five lightnesses of batlow).  Their names
+say both stages: normalisation, then ramp.
 """
 
 import enum
@@ -23,6 +30,7 @@ import math
 
 import numpy as np
 
+from . import palettes
 from .validation import as_number
 
 __all__ = [
@@ -41,6 +49,7 @@ __all__ = [
     "f3",
     "h",
     "map_range",
+    "normalisation",
     "percentile",
     "signed_log",
     "symmetric",
@@ -282,6 +291,19 @@ def dill_names(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
     return np.array(DILL_NAMES)[_dill_band(x, vmin, vmax)]
 
 
+def dill_batlow(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
+    """Dill's five bands (:func:`dill`) in five colours of batlow whose lightness rises band by band
+    (:func:`lab.geometry.palettes.bands`): the bands stay apart without hue, for every student."""
+    return palettes.bands()[_dill_band(x, vmin, vmax)]
+
+
+def classification_vik(x, tol=ZERO_TOL):
+    """The classification :func:`f3` in navy (hyperbolic), near-white (parabolic) and burnt orange (elliptic):
+    three colours of vik (:func:`lab.geometry.palettes.classes`) that stay apart under every colour-vision
+    deficiency, where f3's red and green do not."""
+    return palettes.classes()[np.rint(2 * f3(x, tol)).astype(int)]
+
+
 def _dill_band(x, vmin, vmax):
     x = _values(x)
     vmin, vmax = as_number(vmin, "vmin"), as_number(vmax, "vmax")
@@ -299,7 +321,23 @@ COLOR_MAPS = {
     "symmetric": lambda x, **kw: h(symmetric(x, **kw)),
     "percentile": lambda x, **kw: h(percentile(x, **kw)),
     "signed-log": lambda x, **kw: h(signed_log(x, **kw)),
+    "linear-batlow": lambda x, **kw: palettes.ramp("batlow", f2(x, **kw)),
+    "symmetric-vik": lambda x, **kw: palettes.ramp("vik", symmetric(x, **kw)),
+    "signed-log-vik": lambda x, **kw: palettes.ramp("vik", signed_log(x, **kw)),
+    "classification-vik": classification_vik,
+    "dill-batlow": dill_batlow,
 }
+
+#: The maps with one of Crameri's ramps -> the practical's map whose normalisation they use.
+NORMALISATIONS = {"linear-batlow": "linear", "symmetric-vik": "symmetric", "signed-log-vik": "signed-log",
+                  "classification-vik": "classification", "dill-batlow": "dill"}
+
+
+def normalisation(name):
+    """The practical's map whose normalisation (f1, f2, f3, symmetric, …) the map ``name`` uses: ``name`` itself
+    for the practical's maps, e.g. ``"linear"`` for ``"linear-batlow"``."""
+    name = name.value if isinstance(name, ColorMap) else name
+    return NORMALISATIONS.get(name, name)
 
 
 def apply(name, values, **options):
@@ -336,9 +374,9 @@ def colors_for(values, color_map, *, tol=ZERO_TOL, out=None, chunk=COLOR_CHUNK, 
     values = np.asarray(values, dtype=float)
     if out is None:
         out = np.empty(values.shape + (3,))
-    if name == "classification":
+    if normalisation(name) == "classification":
         options.setdefault("tol", tol)
-    elif name == "linear":
+    elif normalisation(name) == "linear":
         options.setdefault("atol", tol)
     flat, rgb = values.reshape(-1), out.reshape(-1, 3)
     options = map_range(name, flat[np.isfinite(flat)], **options)
@@ -359,6 +397,7 @@ def map_range(name, values, **options):
     of the values with these options they colour it as they would all of them.
     """
     x = _values(values)
+    name = normalisation(name)
     if not x.size:
         return options
     if name == "linear":
