@@ -16,7 +16,7 @@ from .self_check import DEFAULT_TIMEOUT, latest_syntax_error, reported_as_writte
 from .task import build_report, judge_outcome
 from .tasks import TASKS
 
-__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "christoffel", "corner_derivatives", "curvatures", "curve_curvature", "derivative_nets", "developable_faces", "f1", "f2", "f3", "focal_points", "fundamental_forms", "h", "own_surface", "principal_directions", "reflect", "run", "signed_area", "start_velocity", "visualize_curvature", "warmup"]
+__all__ = ["DEFAULT_TIMEOUT", "TASKS", "Case", "Report", "christoffel", "corner_derivatives", "curvatures", "curve_curvature", "deficit_curvature", "derivative_nets", "developable_faces", "f1", "f2", "f3", "focal_points", "fundamental_forms", "h", "own_surface", "principal_directions", "reflect", "run", "signed_area", "start_velocity", "visualize_curvature", "warmup"]
 
 
 def run(task, obj, *, graded=False, seed=None, timeout=DEFAULT_TIMEOUT):
@@ -79,3 +79,4 @@ start_velocity = _check("start_velocity")
 signed_area = _check("signed_area")
 developable_faces = _check("developable_faces")
 principal_directions = _check("principal_directions")
+deficit_curvature = _check("deficit_curvature")

@@ -1,19 +1,20 @@
-"""Matplotlib figures in the parameter domain: path fans with polar isodistance curves and trimming loops.
+"""Matplotlib figures: path fans with polar isodistance curves, trimming loops, convergence of mesh estimators.
 
 Puig-Pey et al. draw the normal sections (or geodesics) from a point with
 their polar isodistance curves on the surface (Puig-Pey et al., figures 1, 2)
 and in the parameter domain (figure 3); :func:`isodistance_figure` draws both
 side by side.  Choi and Lee draw the trimming loops and the triangulation in
-the domain (Choi & Lee, figures 2, 8a): :func:`trimming_figure`.
+the domain (Choi & Lee, figures 2, 8a): :func:`trimming_figure`.  The error of curvature estimated on meshes
+against the mesh size, on a log–log scale with the fitted orders (notebook 13): :func:`convergence_figure`.
 """
 
 import io
 
 import numpy as np
 
-from ..i18n import _
+from ..i18n import _, decimal
 
-__all__ = ["CLOSED_COLOR", "OPEN_COLOR", "PATH_COLOR", "isodistance_figure", "trimming_figure"]
+__all__ = ["CLOSED_COLOR", "OPEN_COLOR", "PATH_COLOR", "convergence_figure", "isodistance_figure", "trimming_figure"]
 
 PATH_COLOR = "#1f3b73"  #: the paths (normal sections or geodesics)
 CLOSED_COLOR = "#d62728"  #: closed isodistance curves
@@ -122,5 +123,58 @@ def trimming_figure(trimmed, triangulation=None, *, title=None, size=(6.0, 5.0),
     ax.set(xlim=(u0, u1), ylim=(v0, v1), xlabel="u", aspect="equal")
     ax.set_ylabel("v", rotation=0, labelpad=8)
     ax.set_title(title or _("trimming loops in the parameter domain"))
+    fig.tight_layout()
+    return _png(fig)
+
+
+#: Colour and marker of each (quantity, region) of a convergence study (Okabe & Ito's colour-blind safe colours).
+_SERIES = {("K", "inside"): ("#0072b2", "o", "-"), ("H", "inside"): ("#e69f00", "s", "-"),
+           ("K", "boundary"): ("#0072b2", "o", ":"), ("H", "boundary"): ("#e69f00", "s", ":")}
+
+
+def convergence_figure(studies, *, title=None, size=(9.0, 4.6), slopes=(1, 2)):
+    """The largest relative error against the mesh size h of one or more :class:`lab.interrogation.estimators.Convergence`
+    studies, log–log, each line labelled with its fitted order p; dashed grey lines show h¹ and h² (``slopes``).
+
+    Returns
+    -------
+    IPython.display.Image
+        A PNG, like :func:`lab.render.show`.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    from matplotlib.figure import Figure
+
+    studies = [studies] if hasattr(studies, "errors") else list(studies)
+    if not studies or not all(hasattr(s, "errors") and hasattr(s, "h") for s in studies):
+        raise TypeError("studies must be lab.interrogation.estimators.Convergence results (convergence(...))")
+    names = {("K", "inside"): _("K inside"), ("K", "boundary"): _("K boundary"), ("H", "inside"): _("H inside"),
+             ("H", "boundary"): _("H boundary")}
+    fig = Figure(figsize=size, dpi=100)
+    ax = fig.add_subplot()
+    fills = ["full", "none", "left", "bottom"]
+    for k, study in enumerate(studies):
+        for key, errors in study.errors.items():
+            if not np.all(np.isfinite(errors)):
+                continue
+            color, marker, line = _SERIES[key]
+            label = f"{study.surface}: {names[key]}, p = {decimal(f'{study.orders[key]:.2f}')}"
+            ax.loglog(study.h, errors, marker=marker, ls=line, color=color, fillstyle=fills[k % len(fills)],
+                      label=label)
+    h = np.concatenate([s.h for s in studies])
+    lo, hi = float(h.min()), float(h.max())
+    low = min(float(np.nanmin(e)) for s in studies for e in s.errors.values() if np.any(np.isfinite(e)))
+    t = np.array([lo, hi])
+    for p in slopes:  # from below the smallest error at the finest mesh, rising with the order
+        ax.loglog(t, 0.3 * low * (t / lo) ** p, color="#999999", lw=0.8, ls="--")
+        ax.annotate(f"∝ h{'¹²³'[p - 1] if 1 <= p <= 3 else p}", (hi, 0.3 * low * (hi / lo) ** p), color="#666666",
+                    fontsize=9, xytext=(3, -3), textcoords="offset points")
+    ax.set_xlim(lo / 1.3, hi * 2.2)  # room for the slopes' labels
+    ax.set_xlabel(_("mesh size h (mean edge length)"))
+    ax.set_ylabel(_("largest error / largest exact value"))
+    ax.grid(True, which="major", color="#e5e5e5")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
+    ax.set_title(title or _("error of the discrete curvature against the mesh size"))
     fig.tight_layout()
     return _png(fig)

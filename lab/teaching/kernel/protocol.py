@@ -294,21 +294,31 @@ def decode(obj):
 
 
 def encode_args(args):
-    """A case's inputs as JSON: numbers, strings and arrays."""
+    """A case's inputs as JSON: numbers, strings and arrays (an integer array, e.g. a mesh's vertex indices, marked as
+    such, so that the student's code gets integers again)."""
     out = []
     for a in args:
         if isinstance(a, str):
             out.append(a)
         elif isinstance(a, np.ndarray):
-            out.append({"kind": "array", **_array(a)})
+            out.append({"kind": "array", **_array(a), **({"integer": True} if a.dtype.kind in "iu" else {})})
         else:
             out.append(float(a))
     return out
 
 
+def _decode_arg(obj):
+    a = _decode_array(obj)
+    if obj.get("integer") is True:
+        if not np.all(a == np.round(a)):
+            raise ValueError("an integer array with fractions")
+        return a.astype(np.int64)
+    return a
+
+
 def decode_args(items):
     """The inputs of :func:`encode_args`, as fresh objects the student may change."""
-    return [_decode_array(a) if isinstance(a, dict) else a for a in items]
+    return [_decode_arg(a) if isinstance(a, dict) else a for a in items]
 
 
 # -- calling the student's code -----------------------------------------------------------------

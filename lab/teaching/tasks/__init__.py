@@ -18,7 +18,7 @@ MODULES = {"warmup": "curvature", "curve_curvature": "curvature", "fundamental_f
            "own_surface": "variants",
            "focal_points": "interrogation", "reflect": "interrogation", "christoffel": "interrogation",
            "start_velocity": "interrogation", "signed_area": "trimming", "developable_faces": "models",
-           "principal_directions": "smoothness"}
+           "principal_directions": "smoothness", "deficit_curvature": "meshes"}
 #: What every graded sandbox and the hand-out withhold whatever the task: the sympy-exact references of the
 #: curvature (they give every curvature task's answer).
 ANALYTIC_BLOCK = tuple(f"lab.geometry.analytic.{name}" for name in (
