@@ -96,8 +96,9 @@ def estimate(mesh, estimator="lab"):
             return _igl(points, faces, estimator == "libigl quadric")
         return _trimesh(points, faces, mesh)
     except ImportError as exc:
+        package = _PACKAGES.get(estimator, "") if exc.name in (None, "igl", "trimesh") else exc.name
         raise ImportError(_("{estimator} needs the package {package}, which is not installed (pip install "
-                            "{package})").format(estimator=estimator, package=_PACKAGES[estimator])) from exc
+                            "{package})").format(estimator=estimator, package=package or exc.name)) from exc
 
 
 def _regions(mesh, margin):
