@@ -13,6 +13,7 @@ import sys
 
 from .geometry import colormaps
 from .geometry.curvature import CurvatureMode
+from .geometry.vision import DEFICIENCIES
 from .i18n import N_, _
 from .model import surfaces
 from .view.render_command import MODELS, OUTPUT_SUFFIXES
@@ -80,7 +81,9 @@ def build_parser():
         help=_("curvature measure: gaussian K, mean H, k1, k2, strain-energy (default: gaussian)"),
     )
     r.add_argument(
-        "--color-map", default="linear", choices=list(colormaps.COLOR_MAPS), help=_("colour map (default: linear = h∘f2)")
+        "--color-map", default="linear", choices=list(colormaps.COLOR_MAPS),
+        help=_("colour map (default: linear = h∘f2; readable with a colour-vision deficiency: linear-batlow, "
+               "symmetric-vik, signed-log-vik, classification-vik, dill-batlow)")
     )
     r.add_argument("--file", metavar="PART", help=_("a part from a file instead (STEP, IGES, BREP): each face on a "
                    "(8·2^depth·resolution + 1)² grid in its trimmed region; see lab.read"))
@@ -96,6 +99,12 @@ def build_parser():
     r.add_argument("--camera", type=_camera, metavar="AZIMUTH,ELEVATION",
                    help=_("view direction in degrees: azimuth around z from +x, elevation above the xy-plane "
                         "(default: the oblique view that sees most of the surface)"))
+    r.add_argument("--simulate", choices=list(DEFICIENCIES), metavar="DEFICIENCY",
+                   help=_("the picture as a student with this colour-vision deficiency sees it: deuteranopia, "
+                          "protanopia or tritanopia (Machado et al. 2009)"))
+    r.add_argument("--band-lines", action="store_true",
+                   help=_("draw level lines at the borders of the colour bands (parabolic lines, Dill's band edges, "
+                          "the colour bar's ticks), so the picture reads without colour"))
     r.add_argument("--legend", action=argparse.BooleanOptionalAction, default=True,
                    help=_("draw the colour bar or classification legend in curvature units (default: yes)"))
     r.add_argument("--title", nargs="?", const=True, default=True, metavar="TEXT",

@@ -102,6 +102,13 @@ CANNOT = {
     "lab.view.style.fit_camera": "points a camera (a view direction)",
     "lab.interrogation.probe.probe_lines": "draws the lines of a probe result (made by lab.probe, withheld)",
     "lab.view.legend.map_range": "the range of values a colour map spans (two numbers), no colour",
+    "lab.geometry.palettes.ramp": "Crameri's batlow and vik (cmcrameri's tables), not the ramp h",
+    "lab.geometry.palettes.bands": "Dill's bands in five colours of batlow, not the ramp h or the maps f1, f2, f3",
+    "lab.geometry.palettes.classes": "three colours of vik for a classification, not h∘f3's",
+    "lab.geometry.vision.delta_e": "the CAM02-UCS distance of colours it is given",
+    "lab.geometry.vision.lightness": "the lightness of colours it is given",
+    "lab.geometry.vision.smallest_difference": "the smallest distance among colours it is given",
+    "lab.view.legend.Legend.simulated": "a legend's colours as seen with a colour-vision deficiency",
 }
 #: The explorers are widgets: they are built on the library's curvature, so building one in the sandbox raises the
 #: marker where that is withheld; their pictures and legends are read from what they hold.

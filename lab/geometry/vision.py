@@ -16,10 +16,14 @@ import functools
 
 import numpy as np
 
-__all__ = ["DEFICIENCIES", "VISIONS", "MapMeasure", "delta_e", "lightness", "measure", "simulate", "smallest_difference"]
+from ..i18n import N_
+
+__all__ = ["DEFICIENCIES", "NAMES", "VISIONS", "MapMeasure", "delta_e", "lightness", "measure", "simulate", "smallest_difference"]
 
 #: The simulated deficiencies -> colorspacious's ``cvd_type`` (at severity 100 the anomaly is the -opia).
 DEFICIENCIES = {"protanopia": "protanomaly", "deuteranopia": "deuteranomaly", "tritanopia": "tritanomaly"}
+#: The deficiencies as a student reads them (translated with ``_``).
+NAMES = {"protanopia": N_("protanopia"), "deuteranopia": N_("deuteranopia"), "tritanopia": N_("tritanopia")}
 #: Normal vision (None) and the three deficiencies, in the order tables list them.
 VISIONS = (None, *DEFICIENCIES)
 

@@ -13,16 +13,17 @@ signed-log map at ``signed_log(x)`` (nonlinear: its ticks are placed where
 their values fall, so the labels stay in curvature units).
 """
 
+import dataclasses
 import html as _html
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import colormaps
+from ..geometry import colormaps, palettes, vision
 from ..i18n import N_, _, decimal
 
-__all__ = ["H_STOPS", "Legend", "format_values", "legend", "map_range", "measure_title", "nice_ticks"]
+__all__ = ["H_STOPS", "Legend", "format_values", "legend", "map_range", "measure_title", "nice_ticks", "stored_legend"]
 
 #: The practical's ramp h is piecewise linear with these knots: five stops draw it exactly.
 H_STOPS = tuple((float(t), tuple(float(c) for c in colormaps.h(np.array(t)))) for t in (0.0, 0.25, 0.5, 0.75, 1.0))
@@ -127,6 +128,8 @@ class Legend:
         The range of values the colours span (what the explorers' readouts show).
     note : str
         A remark printed under the bar (e.g. how the map treats values outside).
+    levels : tuple of float
+        The borders of the bands in curvature units, where level lines go (:func:`legend`).
     """
 
     title: str
@@ -135,6 +138,17 @@ class Legend:
     classes: tuple = ()
     clim: tuple = None
     note: str = ""
+    levels: tuple = ()
+
+    def simulated(self, deficiency):
+        """This legend with its colours as seen with ``deficiency`` (:func:`lab.vision.simulate`; None: itself)."""
+        if vision.check_deficiency(deficiency) is None:
+            return self
+        stops = tuple((p, _rgb(c)) for (p, _c), c in zip(self.stops, vision.simulate(
+            np.array([c for _p, c in self.stops]).reshape(-1, 3), deficiency))) if self.stops else ()
+        classes = tuple((label, _rgb(c)) for (label, _c), c in zip(self.classes, vision.simulate(
+            np.array([c for _l, c in self.classes]).reshape(-1, 3), deficiency))) if self.classes else ()
+        return dataclasses.replace(self, stops=stops, classes=classes)
 
     @property
     def is_bar(self):
@@ -235,6 +249,8 @@ def map_range(color_map, values, *, clim=None, options=None):
     v = v[np.isfinite(v)]
     lo, hi = (float(v.min()), float(v.max())) if v.size else (0.0, 1.0)
     m = max(abs(lo), abs(hi))
+    if color_map in colormaps.COLOR_MAPS:
+        color_map = colormaps.normalisation(color_map)
     if color_map == "classification":
         return None
     if color_map == "cut":
@@ -258,8 +274,49 @@ def map_range(color_map, values, *, clim=None, options=None):
     return (float(options.get("vmin", lo)), float(options.get("vmax", hi)))
 
 
+def _rgb(c):
+    return tuple(float(x) for x in c)
+
+
+def _palette_stops(name, n=17):
+    """Stops along a bar drawn with Crameri's ramp ``name`` (piecewise linear in 17 stops: within 1/255 of it)."""
+    t = np.linspace(0.0, 1.0, n)
+    return tuple((float(p), _rgb(c)) for p, c in zip(t, palettes.ramp(name, t)))
+
+
+def _class_colors(color_map):
+    """The colours of (elliptic, parabolic, hyperbolic) in the classification map ``color_map``."""
+    if color_map == "classification-vik":
+        hyperbolic, parabolic, elliptic = (_rgb(c) for c in palettes.classes())
+        return elliptic, parabolic, hyperbolic
+    return tuple(_rgb(colormaps.h(np.array(t))) for t in (1.0, 0.5, 0.0))
+
+
+def band_label(symbol, lo, hi, *, first=False, last=False, spacing=None):
+    """A band of values in words: its range and, for K, the kind of point (elliptic, parabolic, hyperbolic).
+
+    ``first`` and ``last`` bands also take the values beyond (``K < −0.05``, ``K > 0.01``); a band that holds 0
+    is "≈ 0" (parabolic for K), one below 0 hyperbolic, one above elliptic.
+    """
+    a, b = format_values([lo, hi], spacing=spacing or (hi - lo))
+    span = f"{symbol} < {b}" if first else f"{symbol} > {a}" if last else f"{a} … {b}"
+    if symbol != "K":
+        return span
+    if lo < 0 < hi or (first and hi > 0) or (last and lo < 0):
+        kind = _("≈ 0, parabolic")
+    elif hi <= 0:
+        kind = _("hyperbolic")
+    else:
+        kind = _("elliptic")
+    return f"{span}: {kind}"
+
+
 def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None):
     """The legend of a picture coloured by ``measure`` under ``color_map``.
+
+    Besides colours and labels it gives the band borders (``levels``, in curvature units) where
+    :func:`lab.interrogation.bands.band_lines` draws level lines, so that a picture is readable without colour:
+    0 for a classification (the parabolic lines), Dill's inner band edges, the labelled ticks of a bar.
 
     Parameters
     ----------
@@ -281,37 +338,53 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
     values = np.zeros(0) if values is None else np.asarray(values, dtype=float)
     symbol = MEASURES[measure][1]
     title = measure_title(measure)
-    if measure == "classification" or color_map == "classification":
-        red, green, blue = (tuple(float(x) for x in colormaps.h(np.array(t))) for t in (1.0, 0.5, 0.0))
+    base = colormaps.normalisation(color_map) if color_map in colormaps.COLOR_MAPS else color_map
+    if measure == "classification" or base == "classification":
+        elliptic, parabolic, hyperbolic = _class_colors(color_map)
         zero = "≈ 0" if tol else "= 0"
         if symbol == "K":
-            classes = ((_("K > 0 elliptic"), red), (_("K {zero} parabolic, flat").format(zero=zero), green),
-                       (_("K < 0 hyperbolic"), blue))
+            classes = ((_("K > 0 elliptic"), elliptic), (_("K {zero} parabolic, flat").format(zero=zero), parabolic),
+                       (_("K < 0 hyperbolic"), hyperbolic))
         else:
-            classes = ((f"{symbol} > 0", red), (f"{symbol} {zero}", green), (f"{symbol} < 0", blue))
+            classes = ((f"{symbol} > 0", elliptic), (f"{symbol} {zero}", parabolic), (f"{symbol} < 0", hyperbolic))
         note = _("|{symbol}| ≤ {tol} counts as 0").format(symbol=symbol, tol=_minus(_sci(tol, 1))) if tol else ""
-        return Legend(title=title, classes=classes, note=note)
+        return Legend(title=title, classes=classes, note=note, levels=(0.0,))
     lo, hi = map_range(color_map, values, clim=clim, options=options)
-    if color_map == "dill":
+    if base == "dill":
         edges = lo + (hi - lo) * np.arange(6) / 5
+        levels = tuple(float(x) for x in edges[1:-1])
+        if color_map == "dill-batlow":  # bands in words, lowest at the bottom as on a bar
+            classes = tuple((band_label(symbol, edges[k], edges[k + 1], first=k == 0, last=k == 4,
+                                        spacing=(hi - lo) / 5), _rgb(c))
+                            for k, c in reversed(list(enumerate(palettes.bands()))))
+            return Legend(title=title, classes=classes, clim=(lo, hi), levels=levels,
+                          note=_("five bands (Dill) in rising lightness"))
         stops = []
         for k, c in enumerate(colormaps.DILL_COLORS):
-            stops += [(k / 5, tuple(float(x) for x in c)), ((k + 1) / 5, tuple(float(x) for x in c))]
+            stops += [(k / 5, _rgb(c)), ((k + 1) / 5, _rgb(c))]
         labels = format_values(edges, spacing=(hi - lo) / 5)
         return Legend(title=title, stops=tuple(stops), ticks=tuple(zip((np.arange(6) / 5).tolist(), labels)),
-                      clim=(lo, hi), note=_("five bands (Dill); values outside take the nearest band"))
-    if color_map == "signed-log":
+                      clim=(lo, hi), note=_("five bands (Dill); values outside take the nearest band"), levels=levels)
+    ramp = {"linear-batlow": "batlow", "symmetric-vik": "vik", "signed-log-vik": "vik"}.get(color_map)
+    if base == "signed-log":
+        stops = _palette_stops(ramp) if ramp else H_STOPS
         a = np.abs(values[np.isfinite(values)])
         M = hi
         if not M > 0:
-            return Legend(title=title, stops=H_STOPS, ticks=((0.5, "0"),), clim=(0.0, 0.0))
+            return Legend(title=title, stops=stops, ticks=((0.5, "0"),), clim=(0.0, 0.0), levels=(0.0,))
         s = float(options.get("scale") or (np.median(a) if a.size else 0.0))
         if s <= 0:
             s = M * 1e-3
-        return Legend(title=title, stops=H_STOPS, ticks=_signed_log_ticks(M, s), clim=(-M, M),
+        ticks = _signed_log_ticks(M, s)
+        # a tick's value from its place on the bar (the inverse of the signed-log map)
+        levels = tuple(math.copysign(s * math.expm1(abs(2 * p - 1) * math.log1p(M / s)), p - 0.5)
+                       for p, _label in ticks if 0 < p < 1)
+        return Legend(title=title, stops=stops, ticks=ticks, clim=(-M, M), levels=levels,
                       note=_("signed logarithmic scale, linear below {s}").format(
                           s=format_values([s], spacing=s * 0.1)[0]))
-    if color_map in PERCEPTUAL:
+    if ramp:
+        stops = _palette_stops(ramp)
+    elif color_map in PERCEPTUAL:
         from matplotlib import colormaps as mpl_colormaps
 
         cmap = mpl_colormaps[color_map]
@@ -320,11 +393,63 @@ def legend(measure, color_map, values=None, *, clim=None, options=None, tol=None
     else:
         stops = H_STOPS
     note = {"cut": _("values below 0 and above 1 take the end colours (f1)"),
-            "percentile": _("2nd to 98th percentile; values beyond take the end colours")}.get(color_map, "")
+            "percentile": _("2nd to 98th percentile; values beyond take the end colours")}.get(base, "")
     if hi > lo and not hi - lo > 1e-6 * max(abs(lo), abs(hi)):
         note = _("all values {value} up to rounding ({spread})").format(
             value=format_values([0.5 * (lo + hi)], spacing=abs(hi) * 1e-3)[0], spread=_minus(_sci(hi - lo, 1)))
-    return Legend(title=title, stops=stops, ticks=_linear_ticks(lo, hi), clim=(lo, hi), note=note)
+    ticks = _linear_ticks(lo, hi)
+    levels = tuple(lo + p * (hi - lo) for p, _label in ticks if 0 < p < 1) if hi > lo else ()
+    return Legend(title=title, stops=stops, ticks=ticks, clim=(lo, hi), note=note, levels=levels)
+
+
+def _stored_measure(patches, values):
+    """Which curvature the stored corner values are (``"gaussian"``, ``"mean"``, ``"k1"``, ``"k2"``), or None."""
+    exact = patches.corner_curvature()
+    finite = np.isfinite(values)
+    for name, field in (("gaussian", "K"), ("mean", "H"), ("k1", "k1"), ("k2", "k2")):
+        ref = np.asarray(getattr(exact, field), dtype=float)
+        if ref.shape != values.shape:
+            return None
+        scale = float(np.nanmax(np.abs(ref))) if np.isfinite(ref).any() else 0.0
+        ok = finite & np.isfinite(ref)
+        if ok.any() and np.all(np.abs(values[ok] - ref[ok]) <= 1e-6 * scale + 1e-12):
+            return name
+    return None
+
+
+def stored_legend(patches):
+    """The colour bar of the colours stored in ``patches`` (by a ``visualize_curvature``, the student's or the library's).
+
+    The measure is recognised from the stored values (against the exact corner curvature), the map from the
+    colours: h∘f2 (linear over the stored range), h∘f1 (cut to [0, 1]), h∘f3 (classification) or one of the
+    library's designs (symmetric, signed-log, percentile, Dill's bands, the maps with Crameri's ramps), whichever
+    reproduces them; colours of
+    another map get the ramp h over the stored range with a note saying so.
+    None when the patches have no colours or no stored values.
+    """
+    from ..geometry.curvature import zero_tolerance
+
+    colors = np.asarray(patches.colors, dtype=float)
+    values = np.asarray(patches.curvature, dtype=float)
+    finite = np.isfinite(values)
+    if not np.all(np.isfinite(colors)) or not finite.any():
+        return None
+    measure = _stored_measure(patches, values)
+    tol = zero_tolerance(measure or "gaussian", patches.size)
+    found = None
+    for name in ("linear", "cut", "classification", "symmetric", "signed-log", "percentile", "dill",
+                 *colormaps.NORMALISATIONS):
+        want = colormaps.colors_for(values, name, tol=tol)
+        if np.all(np.abs(want - colors)[finite] <= 0.02):
+            found = name
+            break
+    chosen = legend(measure or "gaussian", found or "linear", values[finite], tol=tol)
+    changes = {}
+    if measure is None:
+        changes["title"] = _("values stored with set_curvature")
+    if found is None:
+        changes["note"] = _("your own colours: the bar shows h over the range of the stored values")
+    return dataclasses.replace(chosen, **changes) if changes else chosen
 
 
 def draft_legend():

@@ -27,7 +27,6 @@ explorer; the choice is :func:`choose_backend`'s):
   :func:`export_html` needs no drawing (vtk.js draws the scene in the browser) and goes on without one.
 """
 
-import dataclasses
 import io
 import os
 import re
@@ -43,7 +42,7 @@ from ..interrogation.faces import is_model
 from ..interrogation.reflection import VIEW_DIRECTION
 from ..model.patches import BezierPatches
 from . import style
-from .legend import Legend
+from .legend import Legend, stored_legend
 from .legend import legend as make_legend
 
 __all__ = [
@@ -284,56 +283,6 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
     return mesh, legend
 
 
-def _stored_measure(patches, values):
-    """Which curvature the stored corner values are (``"gaussian"``, ``"mean"``, ``"k1"``, ``"k2"``), or None."""
-    exact = patches.corner_curvature()
-    finite = np.isfinite(values)
-    for name, field in (("gaussian", "K"), ("mean", "H"), ("k1", "k1"), ("k2", "k2")):
-        ref = np.asarray(getattr(exact, field), dtype=float)
-        if ref.shape != values.shape:
-            return None
-        scale = float(np.nanmax(np.abs(ref))) if np.isfinite(ref).any() else 0.0
-        ok = finite & np.isfinite(ref)
-        if ok.any() and np.all(np.abs(values[ok] - ref[ok]) <= 1e-6 * scale + 1e-12):
-            return name
-    return None
-
-
-def stored_legend(patches):
-    """The colour bar of the colours stored in ``patches`` (by a ``visualize_curvature``, the student's or the library's).
-
-    The measure is recognised from the stored values (against the exact corner curvature), the map from the
-    colours: h∘f2 (linear over the stored range), h∘f1 (cut to [0, 1]), h∘f3 (classification) or one of the
-    library's designs (symmetric, signed-log, percentile, Dill's bands), whichever reproduces them; colours of
-    another map get the ramp h over the stored range with a note saying so.
-    None when the patches have no colours or no stored values.
-    """
-    from ..geometry import colormaps
-    from ..geometry.curvature import zero_tolerance
-    from ..i18n import _
-
-    colors = np.asarray(patches.colors, dtype=float)
-    values = np.asarray(patches.curvature, dtype=float)
-    finite = np.isfinite(values)
-    if not np.all(np.isfinite(colors)) or not finite.any():
-        return None
-    measure = _stored_measure(patches, values)
-    tol = zero_tolerance(measure or "gaussian", patches.size)
-    found = None
-    for name in ("linear", "cut", "classification", "symmetric", "signed-log", "percentile", "dill"):
-        want = colormaps.colors_for(values, name, tol=tol)
-        if np.all(np.abs(want - colors)[finite] <= 0.02):
-            found = name
-            break
-    chosen = make_legend(measure or "gaussian", found or "linear", values[finite], tol=tol)
-    changes = {}
-    if measure is None:
-        changes["title"] = _("values stored with set_curvature")
-    if found is None:
-        changes["note"] = _("your own colours: the bar shows h over the range of the stored values")
-    return dataclasses.replace(chosen, **changes) if changes else chosen
-
-
 def _net_lines(obj):
     P = np.asarray(obj.control_points)
     P = P[None] if P.ndim == 3 else P
@@ -415,7 +364,7 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
 
 def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edges=False, net=False, title=None,
             resolution=1, n=None, direction=None, camera=None, map_options=None, legend=True, shading="smooth",
-            lines=None):
+            lines=None, band_lines=False, simulate=None):
     """A picture of patches, a surface, a model or a mesh in the lab's style, as an RGB array (height, width, 3).
 
     Parameters
@@ -459,13 +408,23 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         polygon in one colour, that of the mean of its vertices' values, and one
         uniform shade from a single light at the eye (ambient plus Lambert), so
         band edges follow the polygons as in his figures.
+    band_lines : bool
+        Draw level lines at the borders of the colour bands (:func:`lab.interrogation.bands.band_lines` at the
+        legend's ``levels``: the parabolic lines of a classification, Dill's band edges, a bar's ticks).
+    simulate : {None, "protanopia", "deuteranopia", "tritanopia"}
+        The whole picture as a student with this colour-vision deficiency sees it (:func:`lab.vision.simulate`).
     """
     if shading not in ("smooth", "flat"):
         raise ValueError(f"shading must be 'smooth' or 'flat'; got {shading!r}")
     if lines is not None and not isinstance(lines, pv.PolyData):
         raise TypeError(f"lines must be a pyvista.PolyData of polylines (e.g. lab.reflection_lines); "
                         f"got {type(lines).__name__}")
+    from ..geometry import vision
+
+    vision.check_deficiency(simulate)
     mesh, known = _as_mesh(obj, curvature, color_map, resolution, n, map_options)
+    if band_lines:
+        lines = _with_band_lines(mesh, known, curvature, color_map, lines)
     if shading == "flat":
         from .. import mesh as _mesh
 
@@ -484,6 +443,8 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         chosen = known
     else:
         chosen = None
+    if simulate and chosen is not None:  # the picture says what it shows
+        chosen = _simulated_note(chosen, simulate)
     frame = style.layout(_window(window_size), title, chosen)
     net_data = _net_lines(obj) if net and hasattr(obj, "control_points") else None
     borders = face_borders(mesh) if edges else None
@@ -491,7 +452,37 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         edges = False  # a model's triangles mean nothing: its faces' borders instead
     view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, lines=lines, direction=direction,
                        camera=camera, shading=shading, borders=borders)
-    return style.compose(view, frame, title=title, legend=chosen)
+    return vision.simulate_image(style.compose(view, frame, title=title, legend=chosen), simulate)
+
+
+def _simulated_note(legend, deficiency):
+    """``legend`` with a note that the picture is simulated for ``deficiency``."""
+    import dataclasses
+
+    from ..geometry.vision import NAMES
+    from ..i18n import _
+
+    said = _("seen with {deficiency} (simulated)").format(deficiency=_(NAMES[deficiency]))
+    return dataclasses.replace(legend, note=f"{legend.note}\n{said}" if legend.note else said)
+
+
+def _with_band_lines(mesh, known, curvature, color_map, lines):
+    """``lines`` and the level lines at the borders of the colour bands of ``known`` (the picture's legend)."""
+    from ..geometry.colormaps import normalisation
+    from ..geometry.curvature import CurvatureMode, zero_tolerance
+    from ..interrogation.bands import band_lines
+
+    if known is None or not known.levels or "values" not in mesh.point_data:
+        raise ValueError("band_lines needs a picture coloured by curvature and a colour map of the lab (curvature= "
+                         "and color_map=); its legend's bands say where the lines go")
+    tol = 0.0
+    if color_map is not None and normalisation(color_map) == "classification":
+        size = float(np.linalg.norm(np.ptp(np.asarray(mesh.points), axis=0)))
+        tol = zero_tolerance(CurvatureMode(curvature).value, size)
+    found = band_lines(mesh, "values", known.levels, tol=tol)
+    if lines is None or not lines.n_points:
+        return found
+    return lines.merge(found) if found.n_points else lines
 
 
 def save(obj, path, curvature=None, color_map=None, **options):

@@ -52,6 +52,11 @@ def run(args):
         _refuse("--draft and --min-radius are two colourings: give one of them")
     if args.file and args.model:
         _refuse("--file and --model both name a part: give one of them")
+    simulate, band_lines = getattr(args, "simulate", None), getattr(args, "band_lines", False)
+    if (simulate or band_lines) and out.suffix.lower() != ".png":
+        _refuse(f"--simulate and --band-lines apply to pictures (.png); got {out.name}")
+    if band_lines and (args.draft is not None or args.min_radius is not None):
+        _refuse("--band-lines draws the borders of the curvature colours' bands, not of --draft or --min-radius")
     if out.suffix.lower() == ".png":
         try:  # whether this machine can draw at all, before the work (Linux without EGL: never a segmentation fault)
             render.configure_offscreen()
@@ -107,10 +112,12 @@ def run(args):
         suffix = out.suffix.lower()
         if suffix == ".png" and legend is not None:
             render.save(mesh, out, window_size=args.window_size, edges=args.edges, lines=lines,
-                        title=_title(args), camera=args.camera, legend=legend if args.legend else False)
+                        title=_title(args), camera=args.camera, legend=legend if args.legend else False,
+                        simulate=simulate)
         elif suffix == ".png":
             render.save(mesh, out, args.curvature, args.color_map, window_size=args.window_size, edges=args.edges,
-                        title=_title(args), camera=args.camera, map_options=options, legend=args.legend, lines=lines)
+                        title=_title(args), camera=args.camera, map_options=options, legend=args.legend, lines=lines,
+                        band_lines=band_lines, simulate=simulate)
         elif suffix == ".html":
             render.export_html(mesh, out, show_edges=args.edges, camera=args.camera)
         elif suffix == ".off":
