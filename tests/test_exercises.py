@@ -19,7 +19,7 @@ def read(path):
 
 
 def test_committed_notebooks_are_freshly_generated():
-    assert len(SOURCES) == 13
+    assert len(SOURCES) == 14
     result = notebooks.generate(ROOT / "solutions", ROOT / "exercises", check_only=True)
     assert len(result) == 4 * len(SOURCES)
     differs = [str(p) for p, action in result.items() if action != "unchanged"]

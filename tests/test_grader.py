@@ -33,7 +33,7 @@ def real_errors(result):
 
 
 def test_both_languages_are_graded():
-    assert len(SOLUTIONS) == len(EXERCISES) == 26
+    assert len(SOLUTIONS) == len(EXERCISES) == 28
 
 
 @pytest.mark.parametrize("path", SOLUTIONS, ids=name)

@@ -147,3 +147,23 @@ def test_10_trimming_statements():
     covered = re.search(r"cover ([\d.]+) of the region's ([\d.]+)", out["10a0000b"])
     assert covered.group(1) == covered.group(2)
     assert number(r"largest \|K\(mesh\) - K\(surface\)\| = (\S+)\n", out["10a0000e"]) == 0.0
+
+
+def test_13_what_the_triangulation_skinny_triangles_and_the_estimators_do():
+    out = run_cells("13_meshes_and_scans.ipynb", ["13a00009", "13a0000b", "13a0000f"])
+    orders = {(s, d): (float(k), float(h)) for s, d, k, h in re.findall(
+        r"(torus|saddle) +(\w+) *: inside, order of K (\S+), of H (\S+);", out["13a00009"])}
+    assert len(orders) == 6 and all(abs(p - 2) < 0.15 for p in orders["torus", "regular"] + orders["saddle", "regular"])
+    for d in ("alternating", "random"):  # "on the torus the order falls to about 1; on the saddle ... about 0"
+        assert all(abs(p - 1) < 0.2 for p in orders["torus", d]) and all(abs(p) < 0.2 for p in orders["saddle", d])
+    # "the mean curvature can change its sign" on the thinnest triangles, not on the square grid
+    flips = [int(n) for n in re.findall(r"H of the wrong sign at (\d+) of", out["13a0000b"])]
+    assert flips[0] == 0 and flips[-1] > 0
+    tables = out["13a0000f"].split("saddle")
+    random = tables[-1]  # "on the mesh with random diagonals VTK's K is off by almost half"
+    assert 0.35 < number(r"\nVTK +(\S+)", random) < 0.5
+    regular = tables[1]  # "the quadric fit ... stays within a few per cent" at the boundary; VTK's, libigl's 2π worse
+    quadric = re.search(r"libigl quadric +\S+ +(\S+) +\S+ +(\S+)", regular).groups()
+    assert all(float(x) < 0.05 for x in quadric)
+    lab_k, vtk_k, igl_k = (number(rf"\n{name} +\S+ +(\S+)", regular) for name in ("lab", "VTK", "libigl"))
+    assert vtk_k > 3 * lab_k and igl_k > 3 * lab_k

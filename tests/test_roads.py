@@ -30,13 +30,17 @@ ROOT = Path(__file__).resolve().parent.parent
 #: What a graded task's answer is made of.
 NEEDS = {"fundamental_forms": {"curvature"}, "curvatures": {"curvature"}, "principal_directions": {"curvature", "directions"},
          "visualize_curvature": {"curvature", "colours"}, "h": {"colours"}, "f1": {"colours"}, "f2": {"colours"},
-         "f3": {"colours"}}
+         "f3": {"colours"}, "deficit_curvature": {"discrete"}}
 #: How a docstring's summary or Returns section says what a function returns.
 KINDS = {"curvature": re.compile(r"curvature|\bk1\b|κ1|principal|fundamental form", re.IGNORECASE),
-         "directions": re.compile(r"\bdirections?\b", re.IGNORECASE), "colours": re.compile(r"colou?rs?\b", re.IGNORECASE)}
+         "directions": re.compile(r"\bdirections?\b", re.IGNORECASE), "colours": re.compile(r"colou?rs?\b", re.IGNORECASE),
+         "discrete": re.compile(r"angle deficit|mixed (Voronoi )?area|discrete", re.IGNORECASE)}
 #: What a road returns in truth where its docstring names curvature only as its input.
 KIND_OF = {"lab.geometry.colormaps.colors_for": {"colours"}, "lab.geometry.colormaps.symmetric": {"colours"},
-           "lab.mesh.build.color_curvature": {"colours"}}
+           "lab.mesh.build.color_curvature": {"colours"},
+           # estimates from the triangles of a mesh it is given, not the exact curvature the other tasks compare to 1e-9
+           "lab.geometry.discrete.gaussian_curvature": {"discrete"}, "lab.geometry.discrete.mean_curvature": {"discrete"},
+           "lab.geometry.discrete.cotangent_laplacian": {"discrete"}, "lab.interrogation.estimators.estimate": {"discrete"}}
 #: Roads a task allows (its ``allowed`` helpers, what the student wrote in an earlier task): not withheld.
 ALLOWED = {
     "visualize_curvature": {"lab.geometry.colormaps.h", "lab.geometry.colormaps.f1", "lab.geometry.colormaps.f2",

@@ -16,7 +16,7 @@ from tests.notebook_support import SharedKernel, text_of
 ROOT = Path(__file__).resolve().parent.parent
 EXERCISES = [p for lang in ("en", "de") for p in sorted((ROOT / "exercises" / lang).glob("[0-9][0-9]_*.ipynb"))]
 
-pytestmark = pytest.mark.xdist_group("run_all")  # one kernel per language for all 26 notebooks, on one worker
+pytestmark = pytest.mark.xdist_group("run_all")  # one kernel per language for all 28 notebooks, on one worker
 
 #: How the one-line messages of exercise mode (lab.teaching.kernel.exercise_mode) and a check's stub report begin.
 LINES = {"en": ("… Stopped here:", "… Not run:"), "de": ("… Hier angehalten:", "… Nicht ausgeführt:")}
@@ -41,6 +41,11 @@ STATED = {
         ("made of 32 bicubic Bézier patches", r"Model\((\d+) faces: (\d+) BezierSurface", lambda n, b: int(n) == int(b) == 32),
         ("a sheet of 99 B-spline faces", r"Model\((\d+) faces: (\d+) BSplineSurface;[^)]* from \S*shell1",
          lambda n, b: int(n) == int(b) == 99)],
+    "13_meshes_and_scans": [
+        ("both estimators converge with **order 2**", r"torus, lab, diagonals regular(?s:.*?)order p +(\S+) +(\S+)",
+         lambda K, H: abs(float(K) - 2) < 0.1 and abs(float(H) - 2) < 0.1),
+        ("The mean curvature stays about 10 % wrong", r"saddle, lab(?s:.*?)order p +\S+ +\S+ +\S+ +(\S+)",
+         lambda p: abs(float(p)) < 0.1)],
     "09_dill_gallery": [
         ("a crown with $K \\approx 0.01", r"crown\s+K = \+(\S+) 1/m²", lambda K: 0.005 <= float(K) < 0.015)],
 }

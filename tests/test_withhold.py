@@ -62,6 +62,9 @@ ANSWERS = {
     "own_surface": [],
     "signed_area": ["lab.interrogation.trimming.loops.signed_area",
                     "lab.interrogation.trimming.surface.TrimmedSurface.area_uv"],
+    "deficit_curvature": ["lab.geometry.discrete.angle_deficit", "lab.geometry.discrete.mixed_areas",
+                          "lab.geometry.discrete.gaussian_curvature", "lab.geometry.discrete.corner_angles",
+                          "lab.geometry.discrete.boundary_vertices", "lab.interrogation.estimators.estimate"],
 }
 
 PROBE = r"""

@@ -254,7 +254,7 @@ def _judge(case, value, exp):
         hint = Hint(_(_HINTS[found]), found) if found else _(
             "K is right but A is not the area you divided by: return the mixed area of each vertex.")
         return False, fmt(A_exp), fmt(A), hint
-    mistakes = _simplest(points, faces, K, _tolerance(A_exp))
+    mistakes = _simplest(points, faces, K, _tolerance(A_exp)) or _separately(points, faces, K, A)
     if mistakes:
         return False, shown, fmt(K), _hint(mistakes)
     if np.allclose(K * A, K_exp * A_exp, rtol=1e-7, atol=1e-9):
@@ -263,6 +263,24 @@ def _judge(case, value, exp):
                                        "corner and area/4 at the others.")
     return False, shown, fmt(K), _("K = (2π − Σθ)/A with the corner angles θ of the triangles at the vertex (π − Σθ "
                                    "at a boundary vertex) and A the mixed area (Meyer et al. 2003).")
+
+
+def _separately(points, faces, K, A):
+    """The mistakes of the deficit K · A and of the area A, each judged on its own (when the student's area is not
+    one of the ways above, e.g. cotangents of angles in degrees): a list, or None when either is unexplained."""
+    deficit = K * A
+    found = []
+    for boundary, unit, sign in product(BOUNDARY, UNITS, SIGNS):
+        wrong = reference(points, faces, boundary=boundary, unit=unit, area="none", sign=sign)[0]
+        if np.allclose(deficit, wrong, rtol=1e-7, atol=1e-9):
+            found = [m for m, right in ((boundary, "pi"), (unit, "rad")) if m != right] + (["sign"] if sign < 0 else [])
+            break
+    else:
+        return None
+    area = "mixed" if np.allclose(A, reference(points, faces)[1], rtol=1e-7, atol=0) else _simplest_area(points, faces, A)
+    if area is None and "deg" not in found:
+        return None
+    return (found + ([area] if area not in (None, "mixed") else [])) or None
 
 
 def _simplest_area(points, faces, A):
