@@ -59,6 +59,7 @@ from .live import release as _release_view
 from .live import rendering as _rendering
 from .live import show as _show_live
 from .live import update as _update_live
+from .vision import SceneVision, deficiency, simulate_css, vision_control
 
 __all__ = ["Explorer", "callback_threads", "checkpoint", "fit_labels", "in_jupyter_session", "live_view_choice",
            "live_view_possible"]
@@ -213,6 +214,10 @@ class Explorer:
         self._widget = None
         self._syncing = False
         self._closed = False
+        # "see it as a colour-blind student does": every explorer's colours, simulated where they are made
+        self.vision = vision_control()
+        self._vision = SceneVision()
+        self._observe(self.vision, self.refresh)
         _INSTANCES.add(self)
         _replace_previous(self)
 
@@ -403,13 +408,14 @@ class Explorer:
         """Show the current scene: push it to the live view, or render the static picture (main thread only)."""
         if self._closed:
             return
+        self._vision.apply(self.plotter, deficiency(self.vision))
         if self._viewer is not None:
             start = time.perf_counter()
             _update_live(self._viewer)
             self.timings["push"] = time.perf_counter() - start
         elif isinstance(self._view, W.Image):
             self._view.value = self.png()
-        value = self.legend_html()
+        value = simulate_css(self.legend_html(), deficiency(self.vision))
         if self.legend_view.value != value:
             self.legend_view.value = value
 
@@ -422,6 +428,8 @@ class Explorer:
     def picture(self, size=None):
         """The view in the lab's picture style (title, colour bar or legend) as an RGB array."""
         legend = self.legend()
+        if legend is not None:
+            legend = legend.simulated(deficiency(self.vision))
         title = self.picture_title()
         frame = style.layout(size or self.window_size, title, legend)
         old = tuple(self.plotter.window_size)
@@ -468,7 +476,7 @@ class Explorer:
                                                                                        margin="0 1em 0 0")),
                            self.status, self.progress],
                           layout=W.Layout(align_items="center", width="auto", padding="0 0 0 4px"))
-            cells = self._controls()
+            cells = [*self._controls(), self.vision]
             fit_labels(cells)
             controls = W.GridBox(cells, layout=W.Layout(
                 width="100%", grid_template_columns="repeat(auto-fill, minmax(250px, 1fr))",
@@ -511,7 +519,8 @@ class Explorer:
         if self._viewer is not None:
             _release_view(self._viewer, self.plotter)
             self._viewer = None
-        for widget in self._widgets + [self.status, self.progress, self.legend_view, self._view, self._widget]:
+        for widget in self._widgets + [self.status, self.progress, self.legend_view, self.vision, self._view,
+                                       self._widget]:
             _close_tree(widget)
         self._widgets.clear()
         self._view = self._widget = None

@@ -7,7 +7,7 @@ import numpy as np
 import pyvista as pv
 
 from ... import mesh as _mesh
-from ...geometry import colormaps
+from ...geometry import colormaps, palettes
 from ...geometry.curvature import Curvature, CurvatureMode, curvature_values, zero_tolerance
 from ...i18n import N_, _, parse_number
 from ...model.patches import BezierPatches
@@ -32,6 +32,14 @@ _H_MAPS = {
     N_("percentile 2–98"): "percentile",
     N_("signed log"): "signed-log",
 }
+# the practical's normalisations with one of Crameri's ramps: readable with a colour-vision deficiency
+_READABLE = {
+    N_("batlow, linear (min/max)"): "linear-batlow",
+    N_("vik, symmetric (0 = white)"): "symmetric-vik",
+    N_("vik, signed log"): "signed-log-vik",
+    N_("classification: navy, white, orange"): "classification-vik",
+    N_("Dill's five bands in batlow"): "dill-batlow",
+}
 _PERCEPTUAL = {"viridis": "viridis", "cividis": "cividis", N_("coolwarm (diverging)"): "coolwarm",
                N_("RdBu (diverging)"): "RdBu_r"}
 _MEASURES = {
@@ -45,7 +53,7 @@ _MEASURES = {
 #: opacity of the surface while the control net is shown (the net runs above and below the surface)
 NET_SURFACE_OPACITY = 0.45
 #: maps whose range the range control sets (the others fix their own: cut [0, 1], ± max, percentiles, …)
-_RANGED = {"linear", "dill", *_PERCEPTUAL.values()}
+_RANGED = {"linear", "dill", "linear-batlow", "dill-batlow", *_PERCEPTUAL.values()}
 
 
 def _h_cmap():
@@ -58,6 +66,24 @@ def _dill_cmap():
     from matplotlib.colors import ListedColormap
 
     return ListedColormap(colormaps.DILL_COLORS, name="dill")
+
+
+def _cmap(name):
+    """The lookup table's colours for the map ``name`` and how many: the ramp h, Dill's bands, a Crameri ramp."""
+    from matplotlib.colors import ListedColormap
+
+    if name == "dill":
+        return _dill_cmap(), 5
+    if name == "dill-batlow":
+        return ListedColormap(palettes.bands(), name=name), 5
+    if name == "classification-vik":
+        return ListedColormap(palettes.classes(), name=name), 3
+    if name in ("linear-batlow", "symmetric-vik", "signed-log-vik"):
+        ramp = "batlow" if name == "linear-batlow" else "vik"
+        return ListedColormap(palettes.table(ramp), name=ramp), 256
+    if name in _PERCEPTUAL.values():
+        return name, 256
+    return _h_cmap(), 256
 
 
 def _readout(value):
@@ -122,12 +148,13 @@ class CurvatureExplorer(Explorer):
         self.source = surface
         student = patches_class is not None
         measures = {k: v for k, v in _MEASURES.items() if not student or v in ("gaussian", "mean", "k1", "k2")}
-        maps = dict(list(_H_MAPS.items())[:3]) if student else {**_H_MAPS, **_PERCEPTUAL}
+        maps = dict(list(_H_MAPS.items())[:3]) if student else {**_H_MAPS, **_READABLE, **_PERCEPTUAL}
         c = self._control
         self.measure = c(_dropdown(list(measures.items()), "gaussian", N_("measure")))
         # a real part's curvature spans orders of magnitude (linkrods: K from -184 at its fillets to 20): the
-        # linear map would paint it one colour; the signed log shows sign and size
-        first = "signed-log" if self.model is not None else "linear"
+        # linear map would paint it one colour; the signed log shows sign and size, in vik (not the practical's
+        # rainbow: white at 0, dark blue and red at the ends, readable with a colour-vision deficiency)
+        first = "signed-log-vik" if self.model is not None else "linear"
         self.color_map = c(_dropdown(list(maps.items()), first, N_("colour map")))
         if self.model is None:
             self.depth = c(W.IntSlider(value=depth, min=0, max=max_depth, description=_("depth"), style=style_for(),
@@ -158,6 +185,10 @@ class CurvatureExplorer(Explorer):
                                          indent=False, layout=W.Layout(width="auto")))
         self.show_edges = c(W.Checkbox(value=False, description=_("edges by continuity"), indent=False,
                                        layout=W.Layout(width="auto")))
+        self.show_bands = c(W.Checkbox(value=False, description=_("band borders"), indent=False,
+                                       tooltip=_("level lines where the colour bands meet: readable without colour"),
+                                       layout=W.Layout(width="auto")))
+        self.bands_mesh = self.bands_actor = None
         self.edge_legend = c(full_row_text())
         self.edges = EdgeOverlay(self._base if self._base is not None else surface)
         self.fit_button = c(W.Button(description=_("fit view"), tooltip=_("the oblique view of the whole surface"),
@@ -181,11 +212,12 @@ class CurvatureExplorer(Explorer):
         self._observe(self.show_net, self.toggle_overlays)
         self._observe(self.show_borders, self.toggle_overlays)
         self._observe(self.show_edges, self.toggle_overlays)
+        self._observe(self.show_bands, self.recolor)
         self.fit_button.on_click(lambda _button: self._on_main(self._request, self.fit_camera))
 
     def _controls(self):
         return [self.measure, self.color_map, self.range_mode, self.range_box, self.depth,
-                W.HBox([self.show_net, self.show_borders, self.show_edges, self.fit_button],
+                W.HBox([self.show_net, self.show_borders, self.show_edges, self.show_bands, self.fit_button],
                        layout=W.Layout(width="auto", justify_content="space-between", align_items="center",
                                        flex_flow="row wrap")),
                 self.edge_legend, self.info] + (self.tools.controls() if self.tools is not None else [])
@@ -414,7 +446,31 @@ class CurvatureExplorer(Explorer):
         else:
             self._recolor_library()
         self._show_readouts()
+        self._draw_bands()
         self.refresh()
+
+    def _draw_bands(self):
+        """The level lines at the borders of the colour bands (the legend's ``levels``), when "band borders" is on."""
+        from ...interrogation.bands import band_lines
+        from .. import style as _style
+
+        legend = self.legend() if self.show_bands.value and not (self.tools and self.tools.active) else None
+        lines = None
+        if legend is not None and legend.levels:
+            values = self._legend_values()
+            tol = self._tol() if colormaps.normalisation(self._map_name()) == "classification" else 0.0
+            lines = band_lines(self.mesh, np.asarray(values, dtype=float), legend.levels, tol=tol)
+        if lines is None or not lines.n_points:
+            if self.bands_actor is not None:
+                self.bands_actor.SetVisibility(False)
+            return
+        if self.bands_actor is None:
+            self.bands_mesh = lines
+            self.bands_actor = _style.add_lines_on_surface(self.plotter, self.bands_mesh, pickable=False,
+                                                           lighting=False)
+        else:
+            self.bands_mesh.copy_from(lines)
+        self.bands_actor.SetVisibility(True)
 
     def legend(self):
         """The colour bar (or classification legend) of the current colours, in curvature units."""
@@ -450,16 +506,16 @@ class CurvatureExplorer(Explorer):
         v = self.values()
         name = self._map_name()
         display = self.mesh.point_data["display"]
-        cmap, n_colors = _h_cmap(), 256
+        cmap, n_colors = _cmap(name)
         clim = self._range(v, name)
         if name == "cut":
             display[:] = np.clip(np.nan_to_num(v), 0, 1)
             ends = (0.0, 1.0)
-        elif name == "classification":
+        elif name in ("classification", "classification-vik"):
             tol = self._tol()
             display[:] = np.where(v > tol, 1.0, np.where(v < -tol, 0.0, 0.5))
             ends = (0.0, 1.0)
-        elif name == "signed-log":
+        elif name in ("signed-log", "signed-log-vik"):
             finite = np.isfinite(v)
             display[:] = 0.5
             if finite.any():
@@ -468,10 +524,6 @@ class CurvatureExplorer(Explorer):
         else:
             display[:] = v
             ends = clim
-            if name == "dill":
-                cmap, n_colors = _dill_cmap(), 5
-            elif name in _PERCEPTUAL.values():
-                cmap = name
         lo, hi = ends
         if not hi > lo:
             hi = lo + max(abs(lo), 1.0) * 1e-9
