@@ -165,7 +165,7 @@ def test_the_sources_are_cited_as_papers_everywhere():
     assert found == ""
     bibliography = (ROOT / "docs" / "bibliography.md").read_text()
     for source in ("Versuch 6: Krümmungsvisualisierung", "Dill", "Choi", "Puig-Pey", "The NURBS Book", "Klass",
-                   "Hagen"):
+                   "Hagen", "Meyer et al. 2003", "Borrelli"):
         assert source in bibliography
 
 

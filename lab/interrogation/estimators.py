@@ -197,12 +197,13 @@ class Convergence:
         keys = [k for k in self.errors if np.all(np.isfinite(self.errors[k]))]
         names = {("K", "inside"): _("K inside"), ("K", "boundary"): _("K boundary"), ("H", "inside"): _("H inside"),
                  ("H", "boundary"): _("H boundary")}
+        grid, order = _("grid"), _("order p")
         lines = [_("{surface}, {estimator}, diagonals {diagonals}: largest relative error").format(
                      surface=self.surface, estimator=self.estimator, diagonals=self.diagonals),
-                 f"{_('grid'):>9} {'h':>9}" + "".join(f"{names[k]:>12}" for k in keys)]
+                 f"{grid:>9} {'h':>9}" + "".join(f"{names[k]:>12}" for k in keys)]
         for n, h, *errors in zip(self.sizes, self.h, *(self.errors[k] for k in keys)):
             lines.append(f"{n:>4} × {n:<3} {decimal(f'{h:.3g}'):>9}" + "".join(f"{_number(e):>12}" for e in errors))
-        lines.append(f"{_('order p'):>19}" + "".join(f"{decimal(f'{self.orders[k]:.2f}'):>12}" for k in keys))
+        lines.append(f"{order:>19}" + "".join(f"{decimal(f'{self.orders[k]:.2f}'):>12}" for k in keys))
         return "\n".join(lines)
 
     def __str__(self):
