@@ -1,6 +1,5 @@
-"""Meshes (PyVista) from the geometry: surfaces and patch collections with exact curvature as point data, welding,
-level lines on triangle meshes, triangle meshes with exact curvature for discrete
-estimators, trimmed-surface meshes and geomview files (CBEZ, coloured OFF).
+"""Meshes (PyVista) from the geometry: surfaces, patch collections and triangle meshes with exact curvature as point
+data, welding, level lines on triangle meshes, trimmed-surface meshes and geomview files (CBEZ, coloured OFF).
 May import numpy, scipy, pyvista and lab.geometry; surfaces and patches arrive as arguments (duck-typed).
 """
 
