@@ -18,7 +18,8 @@ import numpy as np
 
 from ..i18n import N_
 
-__all__ = ["DEFICIENCIES", "NAMES", "VISIONS", "MapMeasure", "delta_e", "lightness", "measure", "simulate", "smallest_difference"]
+__all__ = ["DEFICIENCIES", "NAMES", "VISIONS", "MapMeasure", "delta_e", "lightness", "measure", "monotonic", "simulate",
+           "simulate_image", "smallest_difference"]
 
 #: The simulated deficiencies -> colorspacious's ``cvd_type`` (at severity 100 the anomaly is the -opia).
 DEFICIENCIES = {"protanopia": "protanomaly", "deuteranopia": "deuteranomaly", "tritanopia": "tritanomaly"}
@@ -154,7 +155,7 @@ class MapMeasure:
         return min(self.smallest.values())
 
 
-def _monotonic(J, tol=1.0):
+def monotonic(J, tol=1.0):
     """Whether ``J`` rises (or falls) throughout, never dropping more than ``tol`` below a value before it."""
     J = np.asarray(J, dtype=float)
     rising = np.max(np.maximum.accumulate(J) - J) <= tol
@@ -198,9 +199,9 @@ def measure(name):
             smallest[vision] = float(np.min(delta_e(seen[:-1], seen[1:])))
     J = lightness(dense)
     if kind == "sequential" or (kind == "classes" and len(J) == 5):
-        ordered = _monotonic(J)
+        ordered = monotonic(J)
     else:  # diverging, or the three classes: each side of the middle
         mid = len(J) // 2
-        ordered = _monotonic(J[: mid + 1]) and _monotonic(J[mid:]) and len(J) > 2 and \
+        ordered = monotonic(J[: mid + 1]) and monotonic(J[mid:]) and len(J) > 2 and \
             (J[mid] - J[0]) * (J[mid] - J[-1]) > 0
     return MapMeasure(name, kind, colors, smallest, ordered)

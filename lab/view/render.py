@@ -520,7 +520,7 @@ def show_row(objects, titles=None, *, window_size=(1200, 420), **options):
     title and legend.
 
     ``objects`` are what :func:`picture` takes; ``titles`` one per object; ``options`` (``curvature``,
-    ``color_map``, ``direction``, ``camera`` …) apply to all.  Without ``direction`` or ``camera`` all pictures
+    ``color_map``, ``direction``, ``camera`` …) apply to all, except a list of ``color_map`` (one per object).  Without ``direction`` or ``camera`` all pictures
     look from the direction the first one is drawn from: one camera for the row.
     """
     objects = list(objects)
@@ -538,8 +538,12 @@ def show_row(objects, titles=None, *, window_size=(1200, 420), **options):
             first = (pv.PolyData(np.asarray(objects[0].control_points, dtype=float).reshape(-1, 3))
                      if isinstance(objects[0], BezierPatches) else _as_mesh(objects[0], None, None, 1, 16)[0])
             options["direction"] = style.view_direction(first, None, None, width / int(window_size[1]))
-    parts = [picture(obj, window_size=(width, int(window_size[1])), title=title, **options)
-             for obj, title in zip(objects, titles)]
+    maps = options.pop("color_map", None)
+    maps = list(maps) if isinstance(maps, (list, tuple)) else [maps] * len(objects)
+    if len(maps) != len(objects):
+        raise ValueError(f"color_map must be one map or one per object ({len(objects)}); got {len(maps)}")
+    parts = [picture(obj, window_size=(width, int(window_size[1])), title=title, color_map=cmap, **options)
+             for obj, title, cmap in zip(objects, titles, maps)]
     return _image(np.hstack(parts))
 
 
