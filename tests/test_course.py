@@ -226,7 +226,7 @@ def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
     table = {r["student"]: r for r in rows_of(out)}
     assert float(table["ada"][ID]) == 10 and float(table["bea"][ID]) == 7.5  # 3 started days late: 30 %, capped 25 %
     assert table["bea"][f"{ID} late days"] == "3"
-    assert float(table["(max)"][ID]) == 10 and float(table["(max)"]["04_color_maps"]) == 7 + 3
+    assert float(table["(max)"][ID]) == 10 and float(table["(max)"]["04_color_maps"]) == 7 + 3 + 2  # two questions
     assert float(table["ada"]["total"]) == 10 + float(table["ada"]["04_color_maps"])
     assert float(table["ada"]["04_color_maps"]) == 0 + 2  # the exercise untouched (0 autograded) + 2 written
     canvas = tmp_path / "canvas.csv"

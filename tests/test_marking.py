@@ -15,6 +15,8 @@ from lab.teaching.grader.assignments import DEFAULT_FOLDER
 
 ID = "04_color_maps"
 QUESTION = "bfbc93a2"
+#: notebook 04's second written question (colour for every student), not marked here
+OTHER = "c0107a07"
 PAST = datetime.datetime(2025, 12, 15, 23, 59, tzinfo=datetime.timezone.utc)
 #: A 1×1 PNG, a student's figure.
 PNG = base64.b64decode("iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8BQDwAEhQGAhKmMIQAAAABJRU5ErkJggg==")
@@ -62,8 +64,8 @@ def folder(subs, tmp_path):
 
 def test_the_sheet_has_every_answer_as_written_with_sample_answer_and_points(folder):
     sheet = marking.load(folder, lang="en")
-    assert sheet.assignment == ID and [q.cell for q in sheet.questions] == [QUESTION]
-    assert sheet.max_points == {QUESTION: 3.0}
+    assert sheet.assignment == ID and [q.cell for q in sheet.questions] == [QUESTION, OTHER]
+    assert sheet.max_points == {QUESTION: 3.0, OTHER: 2.0}
     answers = {a.student: a.text for a in sheet.answers[QUESTION]}
     assert answers == {s: text for s, (_lang, text) in ANSWERS.items()}  # line breaks and markup as written
     assert sheet.samples[QUESTION].startswith("**$f_1$ (cut)** is absolute")
@@ -112,28 +114,28 @@ def test_marking_through_the_panel_saves_at_once_and_resumes(folder):
         seen.append(tuple(a.student for a in panel.current()))
         panel.w_points.value = points
     assert sorted(seen) == sorted([("ada", "bea"), ("cy",), ("dan",), ("eli",), ("fay",)])
-    marks = {(r["student"]): r["points"] for r in written.read_rows(folder / f"written-{ID}.csv")[1]}
+    marks = {(r["student"]): r["points"] for r in written.read_rows(folder / f"written-{ID}.csv")[1] if r["question"] == QUESTION}
     given = dict(zip(seen, ("3", "2", "1.5", "0", "2")))
     assert marks == {s: p for group, p in given.items() for s in group}  # the group's mark went to both
     assert "every answer of this question is marked" in panel.w_message.value
-    assert panel.sheet.progress() == (6, 6)
+    assert panel.sheet.progress() == (6, 12)  # notebook 04's second question not marked yet
     # a comment with markup is kept as text; an answer's HTML is shown escaped
     panel._go(next(k for k, g in enumerate(panel._ordered()) if g[0].student == "dan"))
     assert "&lt;img src=x onerror=alert(1)&gt;" in panel.w_answer.value and "<img" not in panel.w_answer.value
     assert "&lt;script&gt;" in panel.w_answer.value
     panel.w_comment.value = "see <b>2.1</b>\nand $K$"
-    row = next(r for r in written.read_rows(folder / f"written-{ID}.csv")[1] if r["student"] == "dan")
+    row = next(r for r in written.read_rows(folder / f"written-{ID}.csv")[1] if r["student"] == "dan" and r["question"] == QUESTION)
     assert row["comment"] == "see <b>2.1</b> and $K$"  # one line in the sheet, the markup as text
     # out of range: refused with the reason, nothing saved
     panel.w_points.value = "4"
     assert "4 points: expected 0 to 3 in steps of 0.5" in panel.w_message.value
-    assert next(r for r in written.read_rows(folder / f"written-{ID}.csv")[1] if r["student"] == "dan")["points"] == "0"
+    assert next(r for r in written.read_rows(folder / f"written-{ID}.csv")[1] if r["student"] == "dan" and r["question"] == QUESTION)["points"] == "0"
     # reopening resumes at the same answer, for the same marker
     where = panel.current()[0].student
     again = mark.mark(folder, marker="ta1", lang="en")
-    assert again.current()[0].student == where and again.sheet.progress() == (6, 6)
+    assert again.current()[0].student == where and again.sheet.progress() == (6, 12)
     # the gradebook reads the sheet the panel wrote
-    assert written.read_written(folder / f"written-{ID}.csv")[("bea", ID)] == (3.0, 3.0)
+    assert written.read_written(folder / f"written-{ID}.csv")[("bea", ID)] == (3.0, 5.0)  # of 3 + 2 points
 
 
 def test_a_second_markers_change_is_never_overwritten(folder):
@@ -146,11 +148,11 @@ def test_a_second_markers_change_is_never_overwritten(folder):
     two.w_points.value = "1"  # ben marks first
     one.w_points.value = "3"  # ana's panel read the sheet before: her mark is refused, ben's kept and shown
     assert "changed by another marker since you read it, and kept" in one.w_message.value
-    rows = {r["student"]: r["points"] for r in written.read_rows(folder / f"written-{ID}.csv")[1]}
+    rows = {r["student"]: r["points"] for r in written.read_rows(folder / f"written-{ID}.csv")[1] if r["question"] == QUESTION}
     assert all(rows[s] == "1" for s in students)
     assert one.w_points.value == "1"  # she now sees ben's mark, and can change it knowingly
     one.w_points.value = "2"
-    rows = {r["student"]: r["points"] for r in written.read_rows(folder / f"written-{ID}.csv")[1]}
+    rows = {r["student"]: r["points"] for r in written.read_rows(folder / f"written-{ID}.csv")[1] if r["question"] == QUESTION}
     assert all(rows[s] == "2" for s in students)
 
 
@@ -169,12 +171,12 @@ def test_collecting_again_keeps_the_marks_of_unchanged_answers(subs, tmp_path):
     nbformat.write(nb, homes / "cy" / f"{ID}.ipynb")
     log = io.StringIO()
     collect.collect(homes, ID, PAST + datetime.timedelta(days=3650), folder, log=log)
-    rows = {r["student"]: r for r in written.read_rows(folder / f"written-{ID}.csv")[1]}
+    rows = {r["student"]: r for r in written.read_rows(folder / f"written-{ID}.csv")[1] if r["question"] == QUESTION}
     assert (rows["ada"]["points"], rows["ada"]["comment"]) == ("2", "fine, ada")
     assert (rows["bea"]["points"], rows["cy"]["points"], rows["cy"]["answer"]) == ("2", "", "a new answer")
     kept = sorted(folder.glob(f"written-{ID}.marked-*.csv"))
     assert len(kept) == 1 and "1 marked written answers changed since they were marked" in log.getvalue()
-    assert "cy (" in log.getvalue() and {r["student"]: r["points"] for r in written.read_rows(kept[0])[1]}["cy"] == "2"
+    assert "cy (" in log.getvalue() and {r["student"]: r["points"] for r in written.read_rows(kept[0])[1] if r["question"] == QUESTION}["cy"] == "2"
 
 
 def test_the_command_writes_the_marking_notebook_once(folder, capsys):
@@ -182,7 +184,7 @@ def test_the_command_writes_the_marking_notebook_once(folder, capsys):
     path = folder / f"marking-{ID}.ipynb"
     nb = nbformat.read(path, as_version=4)
     assert f"lab.mark({str(folder.resolve())!r}, {ID!r})" in nb.cells[1].source
-    assert f"{path}: open it in JupyterLab and run its cell (0 of 6 answers marked)" in capsys.readouterr().out
+    assert f"{path}: open it in JupyterLab and run its cell (0 of 12 answers marked)" in capsys.readouterr().out
     path.write_text(path.read_text().replace("Run the cell", "Run my cell"))  # the instructor's edit is kept
     assert mark.main([str(folder)]) == 0 and "Run my cell" in path.read_text()
     assert "is there already (kept)" in capsys.readouterr().out
@@ -196,5 +198,5 @@ def test_the_command_writes_the_marking_notebook_once(folder, capsys):
 def test_gradebook_reads_the_marks_of_the_panel(folder):
     sheet = marking.load(folder, lang="en")
     marking.save(sheet, ["ada"], QUESTION, 2.5, "")
-    assert written.read_written(folder / f"written-{ID}.csv")[("ada", ID)] == (2.5, 3.0)
+    assert written.read_written(folder / f"written-{ID}.csv")[("ada", ID)] == (2.5, 5.0)  # of 3 + 2 points
     assert gradebook.read_written is written.read_written

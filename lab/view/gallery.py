@@ -46,6 +46,19 @@ PICTURES = [
     ("gallery/torus_gaussian_dill.png",
      "--surface torus --curvature gaussian --color-map dill --vmin -1 --vmax 0.3333 --depth 3",
      "Torus with Dill's five bands over −1 … 1/3 (his figure 7): the bands follow the parallels."),
+    ("gallery/practical_gaussian_classification_deuteranopia.png",
+     "--surface practical --curvature gaussian --color-map classification --depth 3 --simulate deuteranopia",
+     ("The classification h∘f3 above as a deuteranope sees it (simulated after Machado et al. 2009): elliptic red "
+      "and parabolic green both turn olive-yellow (ΔE 25 in CAM02-UCS), only the blue stays apart.")),
+    ("gallery/practical_gaussian_classification_vik.png",
+     "--surface practical --curvature gaussian --color-map classification-vik --depth 3 --band-lines",
+     ("The same classification in colours every student can read: hyperbolic navy, parabolic near-white, elliptic "
+      "burnt orange (three colours of Crameri's vik, at least 48 apart under every simulated deficiency), with the "
+      "parabolic lines drawn, so that the borders do not depend on colour at all.")),
+    ("gallery/torus_gaussian_dill_batlow.png",
+     "--surface torus --curvature gaussian --color-map dill-batlow --vmin -1 --vmax 0.3333 --depth 3 --band-lines",
+     ("Torus with Dill's five bands in five lightnesses of batlow instead of the rainbow, each band named in the "
+      "legend (its range and whether it is elliptic, near parabolic or hyperbolic) and its edges drawn.")),
     ("gallery/hood_mean_dill.png",
      "--surface hood --curvature mean --color-map dill --vmin -1.5 --vmax 0.5 --depth 3",
      "Car hood (Dill's figure 9), mean curvature in five bands: the crease is the narrow band of strong curvature."),

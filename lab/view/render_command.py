@@ -168,7 +168,8 @@ def _cad_maps(args, surface, mesh):
 
 
 #: colour maps that take a range, and the keyword options --vmin / --vmax become
-RANGED_MAPS = {"linear": ("vmin", "vmax"), "dill": ("vmin", "vmax"), "symmetric": (None, "vmax")}
+RANGED_MAPS = {"linear": ("vmin", "vmax"), "dill": ("vmin", "vmax"), "symmetric": (None, "vmax"),
+               "linear-batlow": ("vmin", "vmax"), "dill-batlow": ("vmin", "vmax"), "symmetric-vik": (None, "vmax")}
 
 
 def _map_options(args):
@@ -182,7 +183,7 @@ def _map_options(args):
         _refuse("the symmetric map is centred at 0: give --vmax only (it spans -vmax … vmax)")
     if args.vmin is not None and args.vmax is not None and not args.vmin < args.vmax:
         _refuse(f"--vmin must be smaller than --vmax; got {args.vmin:g} and {args.vmax:g}")
-    if args.color_map == "dill" and (args.vmin is None or args.vmax is None):
+    if args.color_map in ("dill", "dill-batlow") and (args.vmin is None or args.vmax is None):
         _refuse("Dill's bands need both --vmin and --vmax")
     options = {}
     if args.vmin is not None:
