@@ -228,7 +228,7 @@ def test_gradebook_totals_late_penalty_and_lms_layouts(course, tmp_path):
     assert table["bea"][f"{ID} late days"] == "3"
     assert float(table["(max)"][ID]) == 10 and float(table["(max)"]["04_color_maps"]) == 7 + 3 + 2  # two questions
     assert float(table["ada"]["total"]) == 10 + float(table["ada"]["04_color_maps"])
-    assert float(table["ada"]["04_color_maps"]) == 0 + 2  # the exercise untouched (0 autograded) + 2 written
+    assert float(table["ada"]["04_color_maps"]) == 0 + 2 + 2  # the exercise untouched (0 autograded) + 2 per question
     canvas = tmp_path / "canvas.csv"
     gradebook.main([str(course["reports"]), "--format", "canvas", "-o", str(canvas), "--late-penalty", "10"])
     lines = lines_of(canvas)
