@@ -113,6 +113,7 @@ _NAMES = {
     "lab.interrogation.meshes": ("FocalSheetWarning", "focal_sheets", "focal_surface", "isophotes",
                                  "parabolic_lines", "polylines", "reflection_lines", "stripe_mapping"),
     "lab.interrogation.stripe_methods": ("compare_stripe_methods",),
+    "lab.interrogation.bands": ("band_lines",),
     "lab.interrogation.estimators": ("compare_estimators", "convergence"),
     "lab.interrogation.cad": ("Model", "read", "write"),
     "lab.interrogation.cad.kernel": ("occ_curvature",),
