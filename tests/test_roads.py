@@ -54,6 +54,9 @@ ALLOWED = {
 }
 #: Roads that return something of a kind but cannot give a task's answer, with the reason.
 CANNOT = {
+    "lab.teaching.course.mark.mark": "the instructor's marking panel of written answers (and not in the sandbox at all)",
+    "lab.teaching.kernel.variants.my_surface": "the student's own surface: its curvature methods are roads of their "
+                                               "own, each withheld",
     "lab.geometry.analytic.to_float": "turns a given sympy expression into floats: no curvature of its own",
     "lab.geometry.bezier.split": "subdivides a net (de Casteljau): control points, no direction field",
     "lab.geometry.colormaps.dill": "Dill's five bands, not the ramp h or the maps f1, f2, f3",

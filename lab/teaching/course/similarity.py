@@ -15,7 +15,7 @@ the edges; written answers are compared in lower case with every run of spaces a
 hand-out already holds (its code; the questions' text) and what the reference solution holds (``--solutions``,
 default: the repository's ``solutions/`` when the lab runs from a checkout) is copydetect's *boilerplate*: its
 k-grams count for nobody.  So that short pieces that are necessarily alike are not counted (``f1`` of notebook 04 is
-one line, ``min(max(x, 0.0), 1.0)``, and ``np.clip`` is the other way to write it), a stretch of matching k-grams
+one line, a value clipped to [0, 1], written one of two natural ways), a stretch of matching k-grams
 counts only when it spans at least :data:`MIN_REGION` characters of normalised text in both submissions.
 
 A part's score is the larger of the two shares of matched text (of each submission's text that can count: not
