@@ -337,17 +337,21 @@ def test_every_road_to_the_answer_raises_in_the_sandbox(verdicts, task):
 def test_an_assignment_without_cad_files_has_no_cad_kernel(tmp_path):
     """OpenCASCADE's and rhino3dm's curvature (``BRepLProp_SLProps``, ``Surface.CurvatureAt``) are roads the lab
     cannot withhold function by function: the sandbox of an assignment that reads no CAD file does not have them,
-    the real-part assignment (11) does."""
+    the real-part assignment (11) does.  Likewise libigl's and trimesh's discrete curvature (the angle deficit, the
+    mixed area) are absent from the sandbox of notebook 13, whose task is to compute them, and present elsewhere."""
     pytest.importorskip("OCP")
     plain = assignments.load(ROOT / "exercises" / "en" / "05_visualize_curvature.ipynb")
     real = assignments.load(ROOT / "exercises" / "en" / "11_real_part.ipynb")
+    meshes = assignments.load(ROOT / "exercises" / "en" / "13_meshes_and_scans.ipynb")
     assert not assignments.reads_cad(plain) and assignments.reads_cad(real)
     script = ("import importlib, json\ndef works(m, name):\n    try:\n        return hasattr(importlib.import_module(m), name)\n"
               "    except ImportError:\n        return False\n"
               "print(json.dumps({'OCP': works('OCP.BRepLProp', 'BRepLProp_SLProps'), "
-              "'rhino3dm': works('rhino3dm', 'Surface'), 'numpy': works('numpy', 'cross')}))")
+              "'rhino3dm': works('rhino3dm', 'Surface'), 'numpy': works('numpy', 'cross'), "
+              "'igl': works('igl', 'gaussian_curvature'), 'trimesh': works('trimesh.curvature', "
+              "'discrete_gaussian_curvature_measure')}))")
     seen = {}
-    for found in (plain, real):
+    for found in (plain, real, meshes):
         box = bubblewrap.Sandbox(bubblewrap.LAB_DIR, tmp_path / found.id, hide=notebook.hidden_modules(found))
         if not box.bwrap:
             pytest.skip("bubblewrap cannot run here")
@@ -358,8 +362,9 @@ def test_an_assignment_without_cad_files_has_no_cad_kernel(tmp_path):
             code, _timed_out, stderr = box.run([sys.executable, "run.py"], 120)
             assert code == 0, stderr
             seen[found.id] = json.loads((work / "seen.json").read_text())
-    assert seen[plain.id] == {"OCP": False, "rhino3dm": False, "numpy": True}
-    assert seen[real.id] == {"OCP": True, "rhino3dm": True, "numpy": True}
+    assert seen[plain.id] == {"OCP": False, "rhino3dm": False, "numpy": True, "igl": True, "trimesh": True}
+    assert seen[real.id] == {"OCP": True, "rhino3dm": True, "numpy": True, "igl": True, "trimesh": True}
+    assert seen[meshes.id] == {"OCP": False, "rhino3dm": False, "numpy": True, "igl": False, "trimesh": False}
 
 
 def test_the_module_path_of_every_road_imports():

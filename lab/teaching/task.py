@@ -75,6 +75,9 @@ class Task:
     diagnose: object = None
     variant: str = ""
     variant_cases: object = None
+    #: Installed distributions that compute the answer (or a part of it) on their own: absent from the graded
+    #: sandbox of an assignment with this task, as OpenCASCADE is from one that reads no CAD file.
+    foreign: tuple = ()
 
 
 def close(a, b, rtol=1e-7, scale=None):

@@ -187,13 +187,14 @@ CAD_DISTRIBUTIONS = ("cadquery-ocp-novtk", "cadquery-ocp", "cadquery-ocp-proxy",
 
 
 def hidden_modules(assignment):
-    """The installed folders and files of :data:`CAD_DISTRIBUTIONS` (their packages, extension modules and bundled
-    shared libraries) that the sandbox of ``assignment`` covers with an empty folder or file; none for an assignment
-    that reads CAD files."""
-    if _assignments.reads_cad(assignment):
-        return ()
+    """The installed folders and files (packages, extension modules, bundled shared libraries) that the sandbox of
+    ``assignment`` covers with an empty folder or file: those of :data:`CAD_DISTRIBUTIONS` unless the assignment
+    reads CAD files, and those of every distribution a graded task names as ``foreign`` (one that computes its
+    answer on its own, e.g. libigl for the angle deficit)."""
+    names = set() if _assignments.reads_cad(assignment) else set(CAD_DISTRIBUTIONS)
+    names |= {d for task, _obj, _pts in assignment.graded(per_student=True) for d in TASKS[task].foreign}
     hidden = set()
-    for name in CAD_DISTRIBUTIONS:
+    for name in sorted(names):
         try:
             dist = importlib.metadata.distribution(name)
         except importlib.metadata.PackageNotFoundError:

@@ -299,5 +299,7 @@ def _error_hint(case, message):
 
 
 DEFICIT_CURVATURE = Task("deficit_curvature", _cases, lambda c: reference(*c.args), _judge, blocked=MESHES_BLOCK,
+                         foreign=("libigl", "trimesh"),  # igl.gaussian_curvature and igl.massmatrix(VORONOI) are the
+                                                         # deficit and the mixed area; trimesh's measures the deficit
                          allowed="numpy (np.cross, np.linalg.norm, np.arctan2 or np.arccos, np.bincount or np.add.at, "
                                  "np.unique)", error_hint=_error_hint, summary=_SUMMARY)
