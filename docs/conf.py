@@ -137,8 +137,10 @@ def _api():
     by_layer = {}
     for module, names in lab._NAMES.items():
         by_layer.setdefault(module.split(".")[1], []).extend(f"{module}.{name}" for name in names)
-    intro = ("Every public name of `lab` (`import lab`; `lab.<name>`), by the layer that defines it. Modules of the "
-             "layers are reached by their short names too (`lab.curvature`, `lab.colormaps` …).")
+    modules = ", ".join(f"`lab.{m}`" for m in sorted(lab.MODULES))
+    intro = ("Every public function and class of `lab` (`import lab`; `lab.<name>`), by the layer that defines it. "
+             f"The layers' modules are reached by short names too: {modules}; the formulas' modules are shown on "
+             "the theory pages.")
     lines = ["# API reference", "", intro, ""]
     for layer, what in API:
         lines += [f"## {layer}", "", what, "", "```{eval-rst}", ".. autosummary::", "   :toctree: generated", ""]

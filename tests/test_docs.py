@@ -134,6 +134,13 @@ def test_no_source_link_and_no_line_of_a_solution():
     assert hits == []
 
 
+def test_every_command_has_its_help_on_the_cli_page():
+    from lab.cli import VERBS
+
+    page = (ROOT / "docs" / "library" / "cli.md").read_text()
+    assert [v for v in ["render", *VERBS] if f"../_build/help/{v}.txt" not in page] == []
+
+
 @built
 def test_mathjax_is_the_sites_own():
     page = (SITE / "theory" / "curvature.html").read_text()

@@ -13,7 +13,7 @@ import pytest
 
 from lab.teaching.course import collect, marking, written
 from tests.browser_support import CHROMIUM, CHROMIUM_ARGS, PANEL, Notebook, jupyterlab
-from tests.test_marking import ID, PAST, QUESTION, _home
+from tests.test_marking import ID, OTHER, PAST, QUESTION, _home
 
 pytestmark = [pytest.mark.skipif(os.environ.get("LAB_SKIP_BROWSER") == "1", reason="LAB_SKIP_BROWSER=1"),
               pytest.mark.xdist_group("browser")]  # one JupyterLab and one Chromium, on one worker
@@ -99,8 +99,13 @@ def marked(tmp_path_factory):
     return seen
 
 
+def _rows(marked, question=QUESTION):
+    """The sheet's rows of one question (notebook 04 asks two; the panel marks the first here)."""
+    return [r for r in written.read_rows(marked["root"] / "subs" / f"written-{ID}.csv")[1] if r["question"] == question]
+
+
 def test_forty_answers_are_marked_with_the_keyboard_and_saved_at_once(marked):
-    rows = written.read_rows(marked["root"] / "subs" / f"written-{ID}.csv")[1]
+    rows = _rows(marked)
     assert len(rows) == CLASS and all(r["points"] for r in rows), [r["student"] for r in rows if not r["points"]]
     # 39 items (a group of two counts once), one of them the teaching assistant's: 38 typed, blind
     assert len(marked["order"]) == CLASS - 2 and all(name.startswith("S-") for name in marked["order"])
@@ -115,7 +120,7 @@ def test_forty_answers_are_marked_with_the_keyboard_and_saved_at_once(marked):
 
 
 def test_the_assistants_concurrent_mark_survives(marked):
-    rows = {r["student"]: r for r in written.read_rows(marked["root"] / "subs" / f"written-{ID}.csv")[1]}
+    rows = {r["student"]: r for r in _rows(marked)}
     assert marked["ta"] and all((rows[s]["points"], rows[s]["comment"]) == ("1", "TA: partly") for s in marked["ta"])
     assert marked["conflicts"] == 1 and "changed by another marker since you read it, and kept" in marked["conflict_text"]
     assert marked["conflict_value"] == "1"  # the panel then shows the assistant's mark
@@ -125,5 +130,8 @@ def test_after_a_reload_every_mark_is_found(marked):
     assert "this question: 40 of 40 marked" in marked["reloaded"]
     assert marked["reloaded_points"] != ""  # the answer the marker stopped at, with its mark
     assert "Sample answer" in marked["reloaded"] and "3 points" in marked["reloaded"], marked["reloaded"]
+    assert len(_rows(marked, OTHER)) == CLASS and not any(r["points"] for r in _rows(marked, OTHER))  # not marked yet
     total = written.read_written(marked["root"] / "subs" / f"written-{ID}.csv")
-    assert len(total) == CLASS and all(top == 3.0 for _got, top in total.values())
+    marks = {r["student"]: float(r["points"]) for r in _rows(marked)}
+    # each student's total is out of both questions' points (3 + 2) and holds the one marked so far
+    assert len(total) == CLASS and all(top == 5.0 and got == marks[s] for (s, _a), (got, top) in total.items()), total

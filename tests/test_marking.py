@@ -200,3 +200,21 @@ def test_gradebook_reads_the_marks_of_the_panel(folder):
     marking.save(sheet, ["ada"], QUESTION, 2.5, "")
     assert written.read_written(folder / f"written-{ID}.csv")[("ada", ID)] == (2.5, 5.0)  # of 3 + 2 points
     assert gradebook.read_written is written.read_written
+
+
+def test_a_markers_share_of_the_class(folder, capsys):
+    """Three assistants split the class by students: each panel shows only its share, and the command writes one
+    notebook per share (``--students``), named after the roster file."""
+    share = folder.parent / "ta1.txt"
+    share.write_text("# the first assistant\nada\ncy\n")
+    panel = mark.mark(folder, marker="ta1", lang="en", students=share)
+    assert {a.student for answers in panel.sheet.answers.values() for a in answers} == {"ada", "cy"}
+    assert panel.sheet.progress() == (0, 2 * len(panel.sheet.questions))
+    assert mark.main([str(folder), "--students", str(share)]) == 0
+    nb = nbformat.read(folder / f"marking-{ID}-ta1.ipynb", as_version=4)
+    assert f"students={str(share.resolve())!r}" in nb.cells[1].source
+    capsys.readouterr()
+    nobody = folder.parent / "nobody.txt"
+    nobody.write_text("zed\n")
+    assert mark.main([str(folder), "--students", str(nobody)]) == 2
+    assert "none of the 1 students given has an answer here" in capsys.readouterr().err

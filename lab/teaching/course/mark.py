@@ -29,6 +29,7 @@ import mistune
 from ... import i18n
 from ...i18n import _
 from . import marking
+from .files import read_roster
 
 __all__ = ["MarkingPanel", "main", "mark"]
 
@@ -291,7 +292,8 @@ class MarkingPanel:
         display(self.widget)
 
 
-def mark(folder, assignment=None, *, marker=None, blind=True, lang=None, exercises=None, solutions=None):
+def mark(folder, assignment=None, *, marker=None, blind=True, lang=None, exercises=None, solutions=None,
+         students=None):
     """The marking panel of a folder of collected submissions (``SUBS`` of ``curvature-lab collect``): one written
     question at a time across the class, sample answer and points in view, every mark saved at once into
     ``written-<id>.csv``.
@@ -310,21 +312,27 @@ def mark(folder, assignment=None, *, marker=None, blind=True, lang=None, exercis
         The language of the questions and sample answers (default: the lab's).
     exercises, solutions : str or Path, optional
         The course's ``exercises/`` and ``solutions/`` (default: the repository's).
+    students : list of str, or str or Path, optional
+        Only these students' answers: a marker's share of the class (a list of user names, or a roster file as
+        ``collect --students`` reads it); default: all.
 
     Returns
     -------
     MarkingPanel
         Shown when it is the last value of a cell; ``.widget`` is the ipywidgets box.
     """
-    sheet = marking.load(folder, assignment, lang=lang, exercises=exercises, solutions=solutions)
+    if isinstance(students, (str, Path)):
+        students = read_roster(students, marking.MarkingError)
+    sheet = marking.load(folder, assignment, lang=lang, exercises=exercises, solutions=solutions, students=students)
     return MarkingPanel(sheet, marker=marker, blind=blind)
 
 
-def _notebook(folder, assignment, lang):
+def _notebook(folder, assignment, lang, students=None):
     import nbformat
 
+    share = f", students={str(Path(students).resolve())!r}" if students else ""
     code = (f"import lab\nlab.set_language({lang!r})\n"
-            f"lab.mark({str(Path(folder).resolve())!r}, {assignment!r})")
+            f"lab.mark({str(Path(folder).resolve())!r}, {assignment!r}{share})")
     nb = nbformat.v4.new_notebook(metadata={
         "kernelspec": {"display_name": "Python 3 (curvature-lab)", "language": "python", "name": "python3"},
         "language_info": {"name": "python"},
@@ -342,19 +350,24 @@ def main(argv=None):
                       "(an existing one is kept) and prints its path. Open it in JupyterLab and run its cell."))
     parser.add_argument("folder", metavar="SUBS", help=_("a folder written by curvature-lab collect"))
     parser.add_argument("--assignment", help=_("the assignment, when SUBS has sheets of several"))
+    parser.add_argument("--students", metavar="ROSTER",
+                        help=_("only these students (one user name per line, or a CSV with 'username'): a marker's "
+                               "share; the notebook is then marking-ID-ROSTER.ipynb"))
     args = parser.parse_args(argv)
     try:
-        sheet = marking.load(args.folder, args.assignment)
+        students = read_roster(args.students, marking.MarkingError) if args.students else None
+        sheet = marking.load(args.folder, args.assignment, students=students)
     except (marking.MarkingError, ValueError, OSError) as exc:
         print(f"curvature-lab mark: error: {exc}", file=sys.stderr)
         return 2
     import nbformat
 
-    path = Path(args.folder) / f"marking-{sheet.assignment}.ipynb"
+    share = f"-{Path(args.students).stem}" if args.students else ""
+    path = Path(args.folder) / f"marking-{sheet.assignment}{share}.ipynb"
     if path.exists():
         print(_("{path} is there already (kept): open it in JupyterLab").format(path=path))
         return 0
-    nbformat.write(_notebook(args.folder, sheet.assignment, i18n.language()), str(path))
+    nbformat.write(_notebook(args.folder, sheet.assignment, i18n.language(), args.students), str(path))
     marked, total = sheet.progress()
     print(_("{path}: open it in JupyterLab and run its cell ({marked} of {total} answers marked)").format(
         path=path, marked=marked, total=total))

@@ -231,8 +231,9 @@ def figures(nb, question, limit=MAX_FIGURES):
     return pictures[-limit:]
 
 
-def load(folder, assignment=None, *, lang=None, exercises=None, solutions=None):
-    """The :class:`Sheet` of a folder of collected submissions (``SUBS``), for a marker in ``lang``."""
+def load(folder, assignment=None, *, lang=None, exercises=None, solutions=None, students=None):
+    """The :class:`Sheet` of a folder of collected submissions (``SUBS``), for a marker in ``lang``; ``students``:
+    only these students' answers (a share of the class for one marker), else all."""
     folder = Path(folder)
     if not folder.is_dir():
         raise MarkingError(f"{folder} is not a folder of collected submissions")
@@ -251,9 +252,12 @@ def load(folder, assignment=None, *, lang=None, exercises=None, solutions=None):
     max_points = {r.get("question", ""): i18n.parse_number(r.get("max_points") or 0) for r in rows}
     notebooks = {}
     answers = {q.cell: [] for q in questions}
+    wanted = None if students is None else set(students)
+    if wanted is not None and not wanted & {r["student"] for r in rows}:
+        raise MarkingError(f"{path}: none of the {len(wanted)} students given has an answer here")
     for r in rows:
         student, question = r["student"], r.get("question", "")
-        if question not in answers:
+        if question not in answers or (wanted is not None and student not in wanted):
             continue
         if student not in notebooks:
             notebooks[student] = _read_notebook(folder / student / f"{assignment}.ipynb")
