@@ -23,7 +23,7 @@ extensions = ["myst_nb", "numpydoc", "sphinx.ext.autosummary", "sphinx.ext.autod
 # No sphinx.ext.viewcode or linkcode: five documented functions are the withheld reference answers of graded tasks,
 # and a link to their source would publish their bodies (tests/test_docs.py checks that no _modules/ is built).
 
-exclude_patterns = ["_build", "**.ipynb_checkpoints", "locales"]
+exclude_patterns = ["_build", "_templates", "**.ipynb_checkpoints", "locales"]
 source_suffix = {".md": "myst-nb", ".rst": "restructuredtext"}
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
@@ -55,7 +55,9 @@ html_theme_options = {
     "footer_start": ["copyright"],
     "footer_end": [],
     "secondary_sidebar_items": ["page-toc"],
+    "navbar_end": ["language-switch", "theme-switcher"],  # every page links the same page in the other language
 }
+templates_path = ["_templates"]
 html_last_updated_fmt = None
 html_context = {"default_mode": "light"}
 html_show_sourcelink = False

@@ -118,6 +118,20 @@ def test_each_landing_page_links_the_other_language():
 
 
 @built
+def test_every_page_links_the_same_page_in_the_other_language():
+    """The navigation bar's "Deutsch" / "English" leads to the same page in the other build, on every page."""
+    link = re.compile(r'class="nav-link lab-language" href="([^"]+)"')
+    for root, other in ((SITE, "Deutsch"), (SITE / "de", "English")):
+        for page in _pages(root):
+            text = page.read_text()
+            found = link.findall(text)
+            assert found and f">{other}</a>" in text, page
+            target = (page.parent / found[0]).resolve()
+            twin = SITE / page.relative_to(root) if root.name == "de" else SITE / "de" / page.relative_to(root)
+            assert target == twin.resolve() and target.is_file(), (page, found[0])
+
+
+@built
 def test_no_source_link_and_no_line_of_a_solution():
     """Five documented functions are the withheld reference answers of graded tasks: no page links their source, and
     no text of the site holds a line of a solution (their docstrings show only their first paragraph)."""
