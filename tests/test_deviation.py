@@ -1,0 +1,197 @@
+"""lab.deviation: signed distances of scanned points to a part, against closed forms and OpenCASCADE; statistics,
+bands and colours; a planted dent found; scans read from PLY, STL, OBJ and XYZ files."""
+
+import numpy as np
+import pytest
+
+import lab
+from lab.interrogation.deviation import DeviationStats, deviation_colors, tolerance_band
+from lab.interrogation.projection import closest_points
+from lab.interrogation.scans import read_scan, sample_scan, write_scan
+
+pytest.importorskip("OCP", reason="OpenCASCADE (the cad extra) gives the reference projections")
+
+
+@pytest.fixture(scope="module")
+def linkrods():
+    return lab.models.linkrods()
+
+
+@pytest.fixture(scope="module")
+def size(linkrods):
+    mesh = linkrods.to_mesh(8, 8)
+    return float(np.linalg.norm(np.ptp(np.asarray(mesh.points), axis=0)))
+
+
+@pytest.fixture(scope="module")
+def clean(linkrods, size):
+    """2000 noise-free points: each on a face, moved along its normal by a known amount up to 0.1 % of the size."""
+    rng = np.random.default_rng(11)
+    offset = rng.uniform(-1e-3, 1e-3, 2000) * size
+    scan = sample_scan(linkrods, 2000, offset=offset, seed=4)
+    return scan, lab.deviation(scan.points, linkrods, tolerance=5e-4 * size)
+
+
+def test_sphere_closed_form():
+    """On the unit sphere (a NURBS) the signed distance of p is |p| - 1, the foot p/|p|."""
+    rng = np.random.default_rng(0)
+    direction = rng.normal(size=(500, 3))
+    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+    radius = rng.uniform(0.7, 1.3, 500)
+    sphere = lab.surfaces.sphere()
+    d = lab.deviation(direction * radius[:, None], sphere, tolerance=0.1)
+    outward = np.sign(np.einsum("ij,ij->i", sphere.normal(d.uv[:, 0], d.uv[:, 1]), direction))
+    assert np.all(outward == outward[0])  # the surface's normal points one way everywhere
+    assert np.max(np.abs(d.distance - outward[0] * (radius - 1))) < 1e-12
+    assert np.max(np.abs(d.foot - direction)) < 1e-12
+    assert np.all(d.face == 0) and not d.border.any()
+
+
+def test_plane_border_foot():
+    """Beside a plane patch the nearest point is on its border: found there and flagged."""
+    plane = lab.surfaces.plane()
+    (u0, u1), (_v0, v1) = plane.domain
+    corner = plane.evaluate(u1, v1)
+    p = corner + np.array([0.3, 0.4, 0.0]) * (u1 - u0)
+    d = lab.deviation([p], plane, tolerance=0.01)
+    assert d.border[0] and abs(abs(d.distance[0]) - 0.5 * (u1 - u0)) < 1e-12
+    assert np.max(np.abs(d.foot[0] - corner)) < 1e-12
+
+
+def test_planted_offsets(clean, size):
+    """Away from the edges every distance is the planted offset (signed by the face's normal, reversed faces too)."""
+    scan, d = clean
+    same = d.face == scan.face
+    assert same.mean() > 0.99
+    assert np.max(np.abs(d.distance - scan.offset)[same]) < 1e-12 * size
+
+
+def test_against_occ_surface_projection(linkrods, clean, size):
+    """GeomAPI_ProjectPointOnSurf on the face: the same distance and (u, v) to 1e-8 (where the foot is inside)."""
+    from lab.interrogation.cad.kernel import occ_projection
+
+    scan, d = clean
+    inside = (d.face == scan.face) & ~d.border
+    distance, feet, _uv = occ_projection(linkrods, scan.points[inside], faces=scan.face[inside])
+    assert np.max(np.abs(np.abs(d.distance[inside]) - distance)) < 1e-8
+    assert np.max(np.linalg.norm(d.foot[inside] - feet, axis=1)) < 1e-8
+
+
+def test_against_occ_whole_part(linkrods, clean):
+    """BRepExtrema_DistShapeShape against all faces (trims respected): the same distance to 1e-8."""
+    from lab.interrogation.cad.kernel import occ_projection
+
+    scan, d = clean
+    some = np.random.default_rng(2).choice(len(scan.points), 300, replace=False)
+    distance, _feet, _uv = occ_projection(linkrods, scan.points[some])
+    inside = ~d.border[some]
+    assert inside.mean() > 0.98
+    assert np.max(np.abs(np.abs(d.distance[some]) - distance)[inside]) < 1e-8
+
+
+@pytest.fixture(scope="module")
+def dented(linkrods, size):
+    """A scan with a scanner's noise (sigma 2e-5 of the size) and a dent of depth 0.4 % of the size."""
+    centre = linkrods.face(6).evaluate(2.2, 1.13)  # on the outside of the large cylinder (radius ~1.1), inside its trims
+    scan = sample_scan(linkrods, 20000, noise=2e-5 * size, dent=(centre, 0.05 * size, 4e-3 * size), seed=7)
+    return scan, lab.deviation(scan.points, linkrods, tolerance=1e-3 * size)
+
+
+def test_dent_found(dented, size):
+    """The points below the tolerance are the dent's: their deepest lies at the planted centre, as deep as planted."""
+    scan, d = dented
+    dent = scan.dent
+    below = d.band < 0
+    assert below.sum() > 20
+    assert np.all(np.linalg.norm(d.points[below] - dent.centre, axis=1) < dent.radius)
+    deepest = np.argmin(d.distance)
+    assert np.linalg.norm(d.foot[deepest] - dent.centre) < 0.2 * dent.radius
+    assert abs(-d.distance[deepest] - dent.depth) < 0.1 * dent.depth
+    # each point's distance is its planted offset (dent and noise) up to the dent's curvature's effect
+    assert np.max(np.abs(d.distance - scan.offset)) < 2e-2 * dent.depth
+
+
+def test_stats(dented):
+    _scan, d = dented
+    s = d.stats
+    x = d.distance
+    assert isinstance(s, DeviationStats) and s.count == len(x)
+    assert s.mean == pytest.approx(x.mean(), abs=0) and s.median == pytest.approx(np.median(x), abs=0)
+    assert s.std == pytest.approx(x.std(), abs=0) and s.rms == pytest.approx(np.sqrt((x * x).mean()), rel=1e-15)
+    assert s.max_above == x.max() and s.max_below == x.min()
+    lo, hi = d.tolerance
+    assert s.within == np.mean((x >= lo) & (x <= hi)) and s.above + s.below + s.within == pytest.approx(1.0)
+    assert "share within tolerance" in s.table() and len(d.outside()) == round((1 - s.within) * s.count)
+
+
+def test_tolerance_and_colours():
+    assert tolerance_band(0.1) == (-0.1, 0.1) and tolerance_band((-0.05, 0.2)) == (-0.05, 0.2)
+    with pytest.raises(ValueError, match="tolerance"):
+        tolerance_band((0.1, 0.2))
+    with pytest.raises(ValueError, match="tolerance must be"):
+        tolerance_band(-1)
+    d = np.array([-1.0, -0.2, 0.0, 0.05, 0.2, 1.0])
+    bands = deviation_colors(d, 0.1, "bands")
+    assert np.allclose(bands[0], bands[1]) and np.allclose(bands[2], bands[3]) and np.allclose(bands[4], bands[5])
+    graded = deviation_colors(d, 0.1, "graded")
+    assert np.allclose(graded[2], bands[2]) and np.allclose(graded[0], lab.geometry.palettes.ramp("vik", 0.0))
+    assert np.allclose(graded[5], lab.geometry.palettes.ramp("vik", 1.0))
+    assert graded[1].sum() > graded[0].sum()  # lighter near the band's border than at the far end
+    with pytest.raises(ValueError, match="color_map must be one of bands, graded"):
+        deviation_colors(d, 0.1, "rainbow")
+
+
+def test_bad_input():
+    plane = lab.surfaces.plane()
+    with pytest.raises(ValueError, match=r"points must have shape \(n, 3\); got \(4, 2\)"):
+        lab.deviation(np.zeros((4, 2)), plane, tolerance=0.1)
+    with pytest.raises(ValueError, match="points must be finite"):
+        lab.deviation([[0, 0, np.nan]], plane, tolerance=0.1)
+    with pytest.raises(TypeError, match="the part must be a lab.Model"):
+        lab.deviation([[0, 0, 0]], "plane", tolerance=0.1)
+
+
+@pytest.mark.parametrize("suffix", [".ply", ".stl", ".obj", ".xyz", ".csv", ".vtp"])
+def test_scan_files(tmp_path, suffix):
+    """A scan written and read back in the formats scanners write gives the same points (text to 17 digits)."""
+    points = np.random.default_rng(3).normal(size=(50, 3))
+    path = write_scan(points, tmp_path / f"scan{suffix}")
+    back = read_scan(path)
+    if suffix in (".stl",):  # STL stores single precision
+        assert np.allclose(back, points, atol=1e-6) and len(back) == 50
+    else:
+        tol = 0 if suffix in (".xyz", ".csv") else 1e-6
+        assert back.shape == (50, 3) and np.max(np.abs(back - points)) <= tol
+
+
+def test_scan_file_through_trimesh(tmp_path):
+    """A PLY point cloud that trimesh (another library) writes reads back: the lab parses no format itself."""
+    trimesh = pytest.importorskip("trimesh")
+    points = np.random.default_rng(4).normal(size=(30, 3))
+    path = tmp_path / "cloud.ply"
+    trimesh.PointCloud(points).export(path)
+    assert np.allclose(read_scan(path), points)
+    d = lab.deviation(path, lab.surfaces.plane(), tolerance=0.1)
+    assert len(d.distance) == 30
+
+
+def test_scan_file_errors(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        read_scan(tmp_path / "missing.ply")
+    bad = tmp_path / "scan.dat"
+    bad.write_text("1 2 3\n")
+    with pytest.raises(ValueError, match="unsupported scan type '.dat'"):
+        read_scan(bad)
+    text = tmp_path / "scan.xyz"
+    text.write_text("1 2\n3 4\n")
+    with pytest.raises(ValueError, match="expected one point per line"):
+        read_scan(text)
+
+
+def test_seeds_reused(linkrods, clean):
+    """A start mesh built once serves another call with the same answer."""
+    scan, d = clean
+    seeds = closest_points.seeds(linkrods)
+    again = closest_points(scan.points[:100], linkrods, seeds=seeds)
+    assert np.array_equal(again.face, d.face[:100])
+    assert np.max(np.abs(again.distance - d.distance[:100])) < 1e-14 * np.ptp(seeds.points, axis=0).max()
