@@ -114,6 +114,13 @@ def build_parser():
                    help=_("colour by the draft angle against this pull direction, with the parting line (0°) in black"))
     r.add_argument("--min-radius", type=float, metavar="R",
                    help=_("colour red where the smallest radius of curvature is below R"))
+    r.add_argument("--deviation", metavar="SCAN",
+                   help=_("colour by the signed distance of a scan's points to the part or surface (PLY, STL, OBJ, "
+                          "XYZ …; see lab.deviation), grey where nothing was scanned; prints the statistics"))
+    r.add_argument("--tolerance", type=float, metavar="T",
+                   help=_("with --deviation: the tolerance band -T … T (default: 0.1 %% of the part's size)"))
+    r.add_argument("--deviation-map", choices=("graded", "bands"), default="graded",
+                   help=_("with --deviation: graded beyond the tolerance, or three bands (default: graded)"))
     r.add_argument("--combs", type=int, metavar="N",
                    help=_("curvature combs along the domain's borders and N iso-curves in each direction"))
     r.add_argument("--comb-scale", type=float, default=0.05, metavar="S",

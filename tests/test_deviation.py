@@ -195,3 +195,68 @@ def test_seeds_reused(linkrods, clean):
     again = closest_points(scan.points[:100], linkrods, seeds=seeds)
     assert np.array_equal(again.face, d.face[:100])
     assert np.max(np.abs(again.distance - d.distance[:100])) < 1e-14 * np.ptp(seeds.points, axis=0).max()
+
+
+def test_map_on_the_part(linkrods, dented, size):
+    """The part's mesh coloured by the scan: each vertex takes the nearest foot's distance (the dent's vertices
+    its depth), grey where no scanned point is near, vik's colours elsewhere."""
+    from lab.interrogation.deviation import NO_SCAN
+
+    _scan, d = dented
+    mesh = linkrods.to_mesh(33, 33)
+    coloured = d.map(mesh, "bands")
+    values = np.asarray(coloured.point_data["deviation"])
+    X = np.asarray(mesh.points, dtype=float)
+    from scipy.spatial import cKDTree
+
+    gap, nearest = cKDTree(d.foot).query(X)
+    scanned = np.isfinite(values)
+    assert scanned.mean() > 0.95
+    assert np.array_equal(values[scanned], d.distance[nearest[scanned]])
+    assert np.all(gap[~scanned] > 0)  # unscanned: no foot within reach
+    rgb = np.asarray(coloured.point_data["RGB"])
+    assert rgb.dtype == np.uint8 and np.all(rgb[~scanned] == np.round(255 * np.array(NO_SCAN)))
+    assert (values < d.tolerance[0]).any()  # the dent's vertices are below the tolerance, coloured navy
+    navy = np.round(255 * lab.geometry.palettes.ramp("vik", 0.0))
+    assert np.all(rgb[values < d.tolerance[0]] == navy)
+
+
+def test_legend():
+    from lab.view.legend import deviation_legend
+
+    bands = deviation_legend(0.01, "bands", unscanned=True)
+    labels = [label for label, _c in bands.classes]
+    assert labels == ["below −0.01", "within −0.01 … 0.01", "above 0.01", "not scanned"]
+    graded = deviation_legend((-0.01, 0.02), "graded", 0.05)
+    assert graded.clim == (-0.05, 0.05) and graded.levels == (-0.01, 0.02)
+    # the bar's colours are the points' colours: sampled at a distance, it shows deviation_colors' colour there
+    bar = graded.colors(1000)
+    for x in (-0.04, 0.0, 0.015, 0.035):
+        k = int((x + 0.05) / 0.1 * 1000)
+        assert np.allclose(bar[k], deviation_colors(np.array([x]), (-0.01, 0.02), vmax=0.05)[0], atol=0.02)
+
+
+def test_render_deviation(tmp_path, dented, capsys):
+    """curvature-lab render --deviation SCAN: the part's mesh with the deviation at its vertices, the table printed."""
+    import pyvista as pv
+
+    from lab import cli
+
+    scan, d = dented
+    path = write_scan(scan.points, tmp_path / "scan.ply")
+    out = tmp_path / "deviation.vtp"
+    assert cli.main(["render", "--model", "linkrods", "--deviation", str(path), "--tolerance",
+                     repr(d.tolerance[1]), "--quiet", "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "share within tolerance" in printed and f"{len(scan.points)} points against linkrods" in printed
+    values = np.asarray(pv.read(out).point_data["deviation"])
+    # at 17 lines per face the dent (radius 0.28, on a cylinder of circumference ~7) falls between vertices:
+    # the deepest vertex shows part of its depth, none more than all of it
+    assert -1.01 * scan.dent.depth < np.nanmin(values) < -0.5 * scan.dent.depth
+    assert np.isfinite(values).mean() > 0.9
+    with pytest.raises(SystemExit):
+        cli.main(["render", "--model", "linkrods", "--deviation", str(path), "--draft", "0,0,1", "-o", str(out)])
+    assert "different colourings" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        cli.main(["render", "--model", "linkrods", "--tolerance", "0.1", "-o", str(out)])
+    assert "--tolerance belongs to --deviation" in capsys.readouterr().err

@@ -22,7 +22,7 @@ from ..i18n import N_, _, decimal
 from . import export
 from .projection import closest_points
 
-__all__ = ["DEVIATION_MAPS", "Deviation", "DeviationStats", "deviation", "deviation_colors", "tolerance_band"]
+__all__ = ["DEVIATION_MAPS", "NO_SCAN", "Deviation", "DeviationStats", "deviation", "deviation_colors", "tolerance_band"]
 
 #: The colour maps of a deviation: three bands, or graded beyond the tolerance.
 DEVIATION_MAPS = ("bands", "graded")
@@ -31,6 +31,11 @@ DEVIATION_MAPS = ("bands", "graded")
 BAND_POSITIONS = palettes.CLASS_POSITIONS
 #: The graded map: vik from these positions at the tolerance to its ends at the range's ends.
 GRADED_START = (0.36, 0.64)
+#: The colour of a place no scanned point is near (:meth:`Deviation.on_points`): a neutral grey.
+NO_SCAN = (0.62, 0.62, 0.62)
+#: A place of the part counts as scanned when a foot point lies within this many times the scan's typical
+#: spacing (the median distance between neighbouring feet).
+REACH_SPACINGS = 6.0
 #: Default tolerance, relative to the part's size (its bounding-box diagonal), when none is given.
 DEFAULT_TOLERANCE_RTOL = 1e-3
 #: The statistics with their names as tables and the CSV show them (marked for translation) and their units.
@@ -165,6 +170,39 @@ class Deviation:
         """sRGB colours (n, 3) of the points under ``color_map`` (:func:`deviation_colors`)."""
         return deviation_colors(self.distance, self.tolerance, color_map, vmax=vmax)
 
+    def on_points(self, X, reach=None):
+        """The signed distance shown at places ``X`` (k, 3) of the part, e.g. the vertices of its mesh: that of
+        the scanned point whose foot is nearest, or NaN where no foot lies within ``reach`` (default
+        :data:`REACH_SPACINGS` times the median spacing of the feet) -- the part's unscanned places."""
+        from scipy.spatial import cKDTree
+
+        X = np.asarray(X, dtype=float).reshape(-1, 3)
+        if not len(self.foot):
+            return np.full(len(X), np.nan)
+        tree = cKDTree(self.foot)
+        if reach is None:
+            if len(self.foot) > 1:
+                spacing, _i = tree.query(self.foot, k=2)
+                reach = REACH_SPACINGS * float(np.median(spacing[:, 1]))
+            else:
+                reach = np.inf
+        gap, nearest = tree.query(X, distance_upper_bound=_v.as_number(reach, "reach", positive=True))
+        out = np.full(len(X), np.nan)
+        found = np.isfinite(gap)
+        out[found] = self.distance[nearest[found]]
+        return out
+
+    def map(self, mesh, color_map="graded", *, vmax=None, reach=None):
+        """A copy of ``mesh`` (a pyvista mesh of the part, e.g. ``model.to_mesh(n, n)``) coloured by the
+        deviation: point data ``deviation`` (:meth:`on_points` at its vertices, NaN where not scanned) and
+        ``RGB`` bytes (:func:`deviation_colors`; grey where not scanned)."""
+        out = mesh.copy()
+        values = self.on_points(np.asarray(out.points), reach=reach)
+        out.point_data["deviation"] = values
+        colors = deviation_colors(values, self.tolerance, color_map, vmax=vmax)
+        out.point_data["RGB"] = np.round(255 * np.clip(colors, 0, 1)).astype(np.uint8)
+        return out
+
     def outside(self):
         """Indices of the points beyond the tolerance, the farthest first."""
         lo, hi = self.tolerance
@@ -212,11 +250,16 @@ def deviation_colors(distance, tolerance, color_map="graded", *, vmax=None):
     lo, hi = tolerance_band(tolerance)
     if color_map not in DEVIATION_MAPS:
         raise ValueError(f"color_map must be one of {', '.join(DEVIATION_MAPS)}; got {color_map!r}")
+    out = _colors(d, lo, hi, color_map, vmax)
+    out[np.isnan(d)] = NO_SCAN  # a place no scanned point is near
+    return out
+
+
+def _colors(d, lo, hi, color_map, vmax):
     below, within, above = palettes.ramp("vik", np.array(BAND_POSITIONS))
     if color_map == "bands":
-        out = np.where((d < lo)[..., None], below, np.where((d > hi)[..., None], above, within))
-        return out
-    top = float(vmax) if vmax is not None else float(np.nanmax(np.abs(d))) if d.size else 1.0
+        return np.where((d < lo)[..., None], below, np.where((d > hi)[..., None], above, within))
+    top = float(vmax) if vmax is not None else float(np.nanmax(np.abs(d))) if np.any(np.isfinite(d)) else 1.0
     top = max(top, hi, -lo) * (1 + 1e-12) + 1e-300
     pos = np.full(d.shape, 0.5)
     up, down = d > hi, d < lo
@@ -244,7 +287,7 @@ def deviation(points, part, tolerance=None, *, name=None, lines=None):
     name : str, optional
         The part's name in tables and pictures (default: the model's name).
     lines : int, optional
-        Iso-parameter lines per face of the mesh that starts the search (default 40).
+        The spacing of the mesh that starts the search: this many steps across the part's size (default 160).
 
     Returns
     -------

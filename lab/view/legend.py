@@ -470,3 +470,42 @@ def radius_legend(r):
     return Legend(title=_("min. radius of curvature 1/max(|κ1|, |κ2|)"),
                   classes=((_("below r = {r}").format(r=text), maps.FLAGGED),
                            (_("at least r = {r}").format(r=text), maps.CLEAR)))
+
+
+def deviation_legend(tolerance, color_map="graded", vmax=None, *, unscanned=False):
+    """The legend of a deviation's colours (:func:`lab.interrogation.deviation.deviation_colors`): the three bands
+    as classes, or the graded bar from ``-vmax`` to ``vmax`` with the band within the tolerance in its middle;
+    ``unscanned`` adds the grey of the places no scanned point is near."""
+    from ..interrogation import deviation as _dev
+
+    lo, hi = _dev.tolerance_band(tolerance)
+    grey = ((_("not scanned"), _dev.NO_SCAN),) if unscanned else ()
+    text = {x: _minus(f"{x:.3g}") for x in (lo, hi)}
+    if color_map == "bands":
+        below, within, above = (_rgb(c) for c in _dev.deviation_colors(np.array([lo - 1.0, 0.0, hi + 1.0]),
+                                                                      (lo, hi), "bands"))
+        return Legend(title=_("signed distance to the part  [length]"),
+                      classes=((_("below {lo}").format(lo=text[lo]), below),
+                               (_("within {lo} … {hi}").format(lo=text[lo], hi=text[hi]), within),
+                               (_("above {hi}").format(hi=text[hi]), above)) + grey,
+                      levels=(lo, hi))
+    top = max(float(vmax) if vmax is not None else 0.0, hi, -lo) or 1.0
+    t = np.linspace(0.0, 1.0, 17)
+    stops = []
+    for a, b in ((-top, lo), (lo, hi), (hi, top)):  # hard edges at the tolerance's borders
+        d = a + t * (b - a)
+        d[-1] = b - 1e-12 * top if b != top else b
+        d[0] = a + 1e-12 * top if a != -top else a
+        colors = _dev.deviation_colors(d, (lo, hi), "graded", vmax=top)
+        stops += [((x + top) / (2 * top), _rgb(c)) for x, c in zip(d, colors)]
+    ends = ((0.0, _minus(f"{-top:.3g}")), (1.0, _minus(f"{top:.3g}")))
+    if (hi - lo) / (2 * top) >= 0.16:  # the tolerance's ticks apart enough to read
+        ticks = (ends[0], ((lo + top) / (2 * top), text[lo]), ((hi + top) / (2 * top), text[hi]), ends[1])
+    else:
+        ticks = (ends[0], (0.5, "0"), ends[1])
+    note = _("white: within the tolerance {lo} … {hi}; orange: above the part, blue: below").format(
+        lo=text[lo], hi=text[hi])
+    if unscanned:
+        note += "; " + _("grey: not scanned")
+    return Legend(title=_("signed distance to the part  [length]"), stops=tuple(stops), ticks=ticks,
+                  clim=(-top, top), note=note, levels=(lo, hi))

@@ -1,6 +1,6 @@
 """The ``curvature-lab render`` command's work (the command line in :mod:`lab.cli` only parses and dispatches): a named
 surface, a part read from a file or a named part, refined and coloured by its exact curvature (or by the draft angle,
-the smallest radius of curvature, with curvature combs), written as a picture (PNG, with title and legend), an
+the smallest radius of curvature, with curvature combs, or by a scan's deviation from the part), written as a picture (PNG, with title and legend), an
 interactive scene (HTML), a mesh (VTK/VTP, geomview OFF) or coloured Bézier patches for geomview (BEZ), with progress
 on stderr.  What cannot be done raises :class:`UsageError`, which the command line shows as a usage error.  A machine
 that cannot draw (:class:`lab.view.render.RenderingUnavailable`) is found out before the work for a picture starts:
@@ -12,6 +12,7 @@ import time
 import warnings
 from pathlib import Path
 
+import numpy as np
 from tqdm import tqdm
 
 from ..i18n import _
@@ -48,15 +49,18 @@ def run(args):
         except ValueError as exc:
             _refuse(f"--window-size: {exc}")
     options = _map_options(args)
-    if args.draft is not None and args.min_radius is not None:
-        _refuse("--draft and --min-radius are two colourings: give one of them")
+    if sum(x is not None for x in (args.draft, args.min_radius, getattr(args, "deviation", None))) > 1:
+        _refuse("--draft, --min-radius and --deviation are different colourings: give one of them")
+    if getattr(args, "tolerance", None) is not None and getattr(args, "deviation", None) is None:
+        _refuse("--tolerance belongs to --deviation SCAN")
     if args.file and args.model:
         _refuse("--file and --model both name a part: give one of them")
     simulate, band_lines = getattr(args, "simulate", None), getattr(args, "band_lines", False)
     if (simulate or band_lines) and out.suffix.lower() != ".png":
         _refuse(f"--simulate and --band-lines apply to pictures (.png); got {out.name}")
-    if band_lines and (args.draft is not None or args.min_radius is not None):
-        _refuse("--band-lines draws the borders of the curvature colours' bands, not of --draft or --min-radius")
+    if band_lines and (args.draft is not None or args.min_radius is not None or getattr(args, "deviation", None)):
+        _refuse("--band-lines draws the borders of the curvature colours' bands, not of --draft, --min-radius or "
+                "--deviation")
     if out.suffix.lower() == ".png":
         try:  # whether this machine can draw at all, before the work (Linux without EGL: never a segmentation fault)
             render.configure_offscreen()
@@ -145,7 +149,9 @@ def _cad_maps(args, surface, mesh):
 
     lines, legend = [], None
     try:
-        if args.draft is not None:
+        if getattr(args, "deviation", None) is not None:
+            mesh, legend = _deviation_map(args, surface, mesh)
+        elif args.draft is not None:
             mesh = _maps.draft_map(mesh, args.draft)
             lines.append(_maps.parting_line(mesh))
             legend = draft_legend()
@@ -165,6 +171,27 @@ def _cad_maps(args, surface, mesh):
     if not lines:
         return mesh, None, legend
     return mesh, lines[0] if len(lines) == 1 else lines[0].merge(lines[1:]), legend
+
+
+def _deviation_map(args, surface, mesh):
+    """--deviation SCAN: the part's mesh coloured by the signed distance of the scan's points (the nearest
+    point's where one is near, grey elsewhere), the legend, and the statistics printed for the report."""
+    from ..interrogation.deviation import deviation
+    from ..interrogation.scans import read_scan
+    from .legend import deviation_legend
+
+    try:
+        points = read_scan(args.deviation)
+    except (OSError, TypeError) as exc:
+        _refuse(f"--deviation: {exc}")
+    found = deviation(points, surface, tolerance=args.tolerance, name=_label(args))
+    coloured = found.map(mesh, args.deviation_map)
+    values = np.asarray(coloured.point_data["deviation"])
+    top = float(np.nanmax(np.abs(found.distance))) if len(found.distance) else None
+    legend = deviation_legend(found.tolerance, args.deviation_map, top, unscanned=bool(np.isnan(values).any()))
+    args._deviation = found
+    print(found.table())
+    return coloured, legend
 
 
 #: colour maps that take a range, and the keyword options --vmin / --vmax become
@@ -206,6 +233,11 @@ def _title(args):
         resolution = _("{n} lines per face").format(n=8 * 2**args.depth * args.resolution + 1)
     else:
         resolution = _("depth {depth}").format(depth=args.depth)
+    if getattr(args, "deviation", None) is not None:
+        found = getattr(args, "_deviation", None)  # set by _deviation_map, before the picture is drawn
+        lo, hi = (_legend_number(x) for x in found.tolerance) if found is not None else ("?", "?")
+        return _("{label}: deviation from {scan}, tolerance {lo} … {hi}").format(
+            label=label, scan=Path(args.deviation).name, lo=lo, hi=hi)
     if getattr(args, "draft", None) is not None:
         pull = ", ".join(f"{x:g}" for x in args.draft)
         return _("{label}: draft angle, pull ({pull}), {resolution}").format(label=label, pull=pull,
@@ -214,6 +246,12 @@ def _title(args):
         return _("{label}: radius of curvature below {r:g}, {resolution}").format(
             label=label, r=args.min_radius, resolution=resolution)
     return f"{label}: {name} {symbol}, {args.color_map} map, {resolution}"
+
+
+def _legend_number(x):
+    from .legend import _minus
+
+    return _minus(f"{x:.3g}")
 
 
 def _label(args):
