@@ -260,3 +260,33 @@ def test_render_deviation(tmp_path, dented, capsys):
     with pytest.raises(SystemExit):
         cli.main(["render", "--model", "linkrods", "--tolerance", "0.1", "-o", str(out)])
     assert "--tolerance belongs to --deviation" in capsys.readouterr().err
+
+
+def test_explorer_shows_the_deviation(linkrods, dented):
+    """The curvature explorer given a scan offers its deviation as a map: the mesh's vertices take
+    Deviation.on_points, the legend and title say so, and the curvature comes back."""
+    from lab.view.explorers import CurvatureExplorer
+
+    scan, d = dented
+    e = CurvatureExplorer(linkrods, live=False, lines=16, scan=scan.points, tolerance=d.tolerance)
+    try:
+        t = e.tools
+        assert np.array_equal(e.deviation.distance, d.distance)
+        t.map.value = "deviation"
+        shown = np.asarray(e.mesh.point_data["cad"], dtype=float)
+        expected = d.on_points(np.asarray(e.mesh.points))
+        assert np.array_equal(np.isnan(shown), np.isnan(expected))
+        assert np.array_equal(shown[np.isfinite(shown)], expected[np.isfinite(expected)])
+        assert e.legend().title.startswith("signed distance to the part") and e.legend().is_bar
+        assert e.picture_title().startswith("deviation from the scan, tolerance −0.0056 … 0.0056")
+        t.map.value = "deviation-bands"
+        assert [label for label, _c in e.legend().classes][:3] == ["below −0.0056", "within −0.0056 … 0.0056",
+                                                                   "above 0.0056"]
+        image = e.picture()
+        assert image.ndim == 3 and image.shape[2] == 3
+        t.map.value = "curvature"
+        assert not e.legend().title.startswith("signed distance")
+    finally:
+        e.close()
+    with pytest.raises(TypeError, match="the part must be a lab.Model"):
+        CurvatureExplorer(lab.surfaces.practical().to_bezier_patches(), live=False, depth=0, scan=scan.points)

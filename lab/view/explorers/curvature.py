@@ -115,12 +115,16 @@ class CurvatureExplorer(Explorer):
         A model's initial lines per face (4 … 64).
     window_size, live, backend
         As :class:`lab.view.explorers.base.Explorer`.
+    scan, tolerance : optional
+        A scan of the part (points, a scan file or a mesh) and the tolerance: the tools' "map" menu then offers
+        the scan's signed distance to the part (:func:`lab.deviation`, ``self.deviation``), coloured graded or
+        in three bands, grey where nothing was scanned.
     """
 
     title = N_("curvature explorer")
 
     def __init__(self, surface, patches_class=None, *, depth=2, max_depth=6, lines=16, window_size=(800, 500),
-                 live=None, backend=None):
+                 live=None, backend=None, scan=None, tolerance=None):
         self.model = surface if is_model(surface) else None
         if self.model is not None:
             if not self.model.faces:
@@ -200,6 +204,14 @@ class CurvatureExplorer(Explorer):
             self.range_mode.disabled = True
         # draft angle, minimum radius, combs and the point probe (lab/view/explorers/tools.py): on surfaces and
         # models (the combs and the probe on a face chosen there)
+        # a scan of the part (points, a file, a mesh): its deviation becomes one of the tools' maps
+        self.deviation = None
+        if scan is not None:
+            if student:
+                raise TypeError("a scan's deviation is shown on the library's surface, not with patches_class")
+            from ...interrogation.deviation import deviation
+
+            self.deviation = deviation(scan, surface, tolerance)
         self.tools = (CurvatureTools(self) if not student and (hasattr(surface, "derivatives") or self.model is not None)
                       else None)
         self._build_scene()

@@ -1,4 +1,5 @@
-"""The curvature explorer's CAD tools: the draft-angle and minimum-radius maps, curvature combs and a point probe.
+"""The curvature explorer's CAD tools: the draft-angle, minimum-radius and scan-deviation maps, curvature combs and a
+point probe.
 
 The probe is a (u, v) control (two sliders), not picking: in the browser-rendered view (PyVista's ``client``
 backend, vtk.js) a pick happens in the browser and never reaches the kernel, where the exact curvature lives;
@@ -50,8 +51,10 @@ class CurvatureTools:
             self.face.add_class("lab-face")
         self.surface = e.source if self.model is None else self.model.face(self.face.value)
         (u0, u1), (v0, v1) = self._uv_box()
-        self.map = c(_dropdown([(_("curvature"), "curvature"), (_("draft angle"), "draft"),
-                                (_("radius below r"), "radius")], "curvature", N_("map")))
+        maps = [(_("curvature"), "curvature"), (_("draft angle"), "draft"), (_("radius below r"), "radius")]
+        if getattr(e, "deviation", None) is not None:  # a scan was given: its deviation from the part
+            maps += [(_("deviation from the scan"), "deviation"), (_("deviation: three bands"), "deviation-bands")]
+        self.map = c(_dropdown(maps, "curvature", N_("map")))
         self.pull = c(W.Dropdown(options=[(label, i) for i, (label, _v) in enumerate(PULLS)], value=0,
                                  description=_("pull"), style=style_for(), layout=_layout()))
         self.radius = c(W.BoundedFloatText(value=1.0, min=1e-9, max=1e9, description=_("r"), style=style_for(),
@@ -137,7 +140,10 @@ class CurvatureTools:
             self.update_lines()
             return
         m = e.mesh.point_data
-        if self.map.value == "draft":
+        if self.map.value.startswith("deviation"):
+            coloured = e.deviation.map(e.mesh, self._deviation_map())
+            m["cad"], m["RGB"] = coloured.point_data["deviation"], coloured.point_data["RGB"]
+        elif self.map.value == "draft":
             m["cad"] = _maps.draft_angle(np.nan_to_num(np.asarray(m["N"], dtype=float)), self._pull())
             m["RGB"] = _maps.draft_colors(m["cad"])
         else:
@@ -150,8 +156,15 @@ class CurvatureTools:
         e.actor.mapper.ScalarVisibilityOn()
         self.update_lines()
 
+    def _deviation_map(self):
+        return "bands" if self.map.value == "deviation-bands" else "graded"
+
     def title(self, resolution):
         """The picture's title while a CAD map colours the surface (``resolution``: "depth 2", "16 lines per face")."""
+        if self.map.value.startswith("deviation"):
+            lo, hi = (_legend._minus(f"{x:.3g}") for x in self.e.deviation.tolerance)
+            return _("deviation from the scan, tolerance {lo} … {hi}, {resolution}").format(
+                lo=lo, hi=hi, resolution=resolution)
         if self.map.value == "draft":
             return _("draft angle, pull {pull}, {resolution}").format(pull=PULLS[self.pull.value][0],
                                                                      resolution=resolution)
@@ -159,6 +172,11 @@ class CurvatureTools:
             r=_legend.decimal(f"{self.radius.value:g}"), resolution=resolution)
 
     def legend(self):
+        if self.map.value.startswith("deviation"):
+            d = self.e.deviation
+            top = float(np.max(np.abs(d.distance))) if len(d.distance) else None
+            unscanned = bool(np.isnan(np.asarray(self.e.mesh.point_data["cad"], dtype=float)).any())
+            return _legend.deviation_legend(d.tolerance, self._deviation_map(), top, unscanned=unscanned)
         return _legend.draft_legend() if self.map.value == "draft" else _legend.radius_legend(self.radius.value)
 
     # -- lines: parting line, combs, probe ---------------------------------------------------------
