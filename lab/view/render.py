@@ -520,7 +520,8 @@ def show_row(objects, titles=None, *, window_size=(1200, 420), **options):
     title and legend.
 
     ``objects`` are what :func:`picture` takes; ``titles`` one per object; ``options`` (``curvature``,
-    ``color_map``, ``direction``, ``camera`` …) apply to all, except a list of ``color_map`` (one per object).  Without ``direction`` or ``camera`` all pictures
+    ``color_map``, ``direction``, ``camera`` …) apply to all, except a list of ``color_map`` or of ``lines`` (one
+    per object).  Without ``direction`` or ``camera`` all pictures
     look from the direction the first one is drawn from: one camera for the row.
     """
     objects = list(objects)
@@ -542,8 +543,13 @@ def show_row(objects, titles=None, *, window_size=(1200, 420), **options):
     maps = list(maps) if isinstance(maps, (list, tuple)) else [maps] * len(objects)
     if len(maps) != len(objects):
         raise ValueError(f"color_map must be one map or one per object ({len(objects)}); got {len(maps)}")
-    parts = [picture(obj, window_size=(width, int(window_size[1])), title=title, color_map=cmap, **options)
-             for obj, title, cmap in zip(objects, titles, maps)]
+    lines = options.pop("lines", None)
+    lines = list(lines) if isinstance(lines, (list, tuple)) else [lines] * len(objects)
+    if len(lines) != len(objects):
+        raise ValueError(f"lines must be one PolyData or one per object ({len(objects)}); got {len(lines)}")
+    parts = [picture(obj, window_size=(width, int(window_size[1])), title=title, color_map=cmap, lines=drawn,
+                     **options)
+             for obj, title, cmap, drawn in zip(objects, titles, maps, lines)]
     return _image(np.hstack(parts))
 
 

@@ -1,0 +1,84 @@
+"""lab.interrogation.knot_lines: the close-up of a knot line in notebook 12 shows what its text says.
+
+The sheet of notebook 12 with the knot v = 2 of multiplicity 1, 2, 3 and the column next to it lifted by 0.05
+(G2, G1, G0 by lab.continuity).  Reflection lines (light lines along (1, 1, 0), eye (0.2, -0.3, 1)) on the two
+one-sided pieces: across G2 they turn by less than KINK_G2 degrees where they meet the knot line (the limit is
+0: the normal is C1 across), across G1 by more than KINK_G1 degrees, and across G0 no light line continues:
+its nearest end on the other side lies more than GAP_G0 away (the sheet is 3 wide)."""
+
+import numpy as np
+import pytest
+
+import lab
+from lab.interrogation.knot_lines import knot_line_mesh, line_crossings
+
+KINK_G2, KINK_G1, GAP_G0 = 1.0, 45.0, 0.5
+EYE = (0.2, -0.3, 1.0)
+
+
+def sheet(r, lift=0.05):
+    x = np.arange(7.0)
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    s = lab.BSplineSurface(np.stack([X, Y, 0.3 * np.sin(X / 2) + 0.2 * np.cos(Y / 3)], axis=-1),
+                           [0, 0, 0, 0, 1, 2, 3, 4, 4, 4, 4], [0, 0, 0, 0, 1, 2, 3, 4, 4, 4, 4], 3, 3)
+    t = s.insert_knot(2.0, "v", r - 1) if r > 1 else s
+    greville = np.array([t.knots_v[j + 1 : j + 4].mean() for j in range(t.control_points.shape[1])])
+    P = t.control_points.copy()
+    P[:, int(np.argmin(np.abs(greville - 2.0))), 2] += lift
+    return lab.BSplineSurface(P, t.knots_u, t.knots_v, 3, 3)
+
+
+@pytest.fixture(scope="module")
+def measured():
+    out = {}
+    for r in (1, 2, 3):
+        s = sheet(r)
+        m = knot_line_mesh(s, "v", 2.0, 0.5, along=(0.5, 3.5))
+        lines = lab.reflection_lines(m, direction=(1, 1, 0), count=15, view=EYE)
+        out[r] = s, m, line_crossings(lines, m)
+    return out
+
+
+def test_the_three_sheets_are_g2_g1_g0(measured):
+    assert [lab.continuity(measured[r][0]).achieved for r in (1, 2, 3)] == ["G2", "G1", "G0"]
+
+
+def test_each_side_keeps_its_one_sided_normal(measured):
+    """The two rows on the knot line: same points, normals apart by continuity's g1 (17.0° at G0, 0 else)."""
+    for r in (1, 2, 3):
+        s, m, _ = measured[r]
+        uv, face = np.asarray(m.point_data["uv"]), np.asarray(m.point_data["face"])
+        rows = [np.flatnonzero((np.abs(uv[:, 1] - 2.0) < 1e-6) & (face == k)) for k in (0, 1)]
+        a, b = (rows[k][np.argsort(uv[rows[k], 0])] for k in (0, 1))
+        np.testing.assert_allclose(m.points[a], m.points[b], atol=1e-7)
+        N = np.asarray(m.point_data["N"])
+        angle = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", N[a], N[b]), -1, 1)))
+        g1 = next(e.g1 for e in lab.continuity(s).edges if e.direction == "v" and e.value == 2.0)
+        assert abs(angle.max() - g1) < 0.05, (r, angle.max(), g1)  # the grid samples the edge; g1 its maximum
+
+
+def test_reflection_lines_run_on_across_g2(measured):
+    gap, angle, _ = measured[1][2]
+    assert len(gap) >= 4
+    assert np.all(gap < 1e-6) and np.all(angle < KINK_G2), (gap, angle)
+
+
+def test_reflection_lines_kink_across_g1(measured):
+    gap, angle, _ = measured[2][2]
+    assert len(gap) >= 4
+    assert np.all(gap < 1e-6) and np.all(angle > KINK_G1), (gap, angle)
+
+
+def test_reflection_lines_break_across_g0(measured):
+    gap, _, _ = measured[3][2]
+    assert np.all(gap > GAP_G0), gap
+
+
+def test_bad_input_is_named():
+    s = sheet(1)
+    with pytest.raises(ValueError, match="direction"):
+        knot_line_mesh(s, "w", 2.0, 0.5)
+    with pytest.raises(ValueError, match="value must lie inside"):
+        knot_line_mesh(s, "v", 4.0, 0.5)
+    with pytest.raises(ValueError, match="knot_line_mesh"):
+        line_crossings(lab.reflection_lines(lab.mesh.surface_mesh(s, 20, 20)), lab.mesh.surface_mesh(s, 20, 20))
