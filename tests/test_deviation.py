@@ -271,7 +271,7 @@ def test_explorer_shows_the_deviation(linkrods, dented):
     from lab.view.explorers import CurvatureExplorer
 
     scan, d = dented
-    e = CurvatureExplorer(linkrods, live=False, lines=16, scan=scan.points, tolerance=d.tolerance)
+    e = CurvatureExplorer(linkrods, live=False, lines=8, scan=scan.points, tolerance=d.tolerance)
     try:
         t = e.tools
         assert np.array_equal(e.deviation.distance, d.distance)
@@ -293,3 +293,17 @@ def test_explorer_shows_the_deviation(linkrods, dented):
         e.close()
     with pytest.raises(TypeError, match="the part must be a lab.Model"):
         CurvatureExplorer(lab.surfaces.practical().to_bezier_patches(), live=False, depth=0, scan=scan.points)
+
+
+def test_csv_reads_back_equal(dented, tmp_path):
+    """Per-point values and statistics to CSV for the report: read back equal, with the tolerance in the header."""
+    from lab.interrogation.export import read_csv
+
+    _scan, d = dented
+    back = read_csv(d.to_csv(tmp_path / "deviation.csv") or tmp_path / "deviation.csv")
+    assert np.array_equal(back.columns["distance"], d.distance) and np.array_equal(back.columns["face"], d.face)
+    assert np.array_equal(back.columns["u"], d.uv[:, 0]) and np.array_equal(back.columns["band"], d.band)
+    assert repr(d.tolerance[1]) in back.meta["tolerance"]
+    stats = read_csv(d.stats.to_csv(tmp_path / "stats.csv") or tmp_path / "stats.csv")
+    values = dict(zip(stats.columns["statistic"], stats.columns["value"]))
+    assert values["mean"] == d.stats.mean and values["max_below"] == d.stats.max_below
