@@ -116,6 +116,14 @@ CANNOT = {
     "lab.geometry.vision.lightness": "the lightness of colours it is given",
     "lab.geometry.vision.smallest_difference": "the smallest distance among colours it is given",
     "lab.view.legend.Legend.simulated": "a legend's colours as seen with a colour-vision deficiency",
+    "lab.interrogation.deviation.deviation": "signed distances of points to a part (vik colours of distances), no "
+                                             "curvature",
+    "lab.interrogation.deviation.deviation_colors": "vik's colours of signed distances against a tolerance, not the "
+                                                    "ramp h or the maps f1, f2, f3",
+    "lab.interrogation.deviation.Deviation.colors": "vik's colours of a scan's distances, not the ramp h or f1, f2, f3",
+    "lab.interrogation.deviation.Deviation.map": "a mesh coloured by a scan's distances (vik), no curvature colours",
+    "lab.interrogation.projection.Piece.period": "the length of a closed face's domain (a number per direction), no "
+                                                 "direction field",
 }
 #: The explorers are widgets: they are built on the library's curvature, so building one in the sandbox raises the
 #: marker where that is withheld; their pictures and legends are read from what they hold.
