@@ -17,7 +17,7 @@ from .base import Explorer, _dropdown, _layout, checkpoint, style_for
 from .controls import full_row_text
 from .edges import EdgeOverlay
 from .models import ModelMeshes, face_borders, is_model
-from .tools import CurvatureTools
+from .tools import CurvatureTools, scan_deviation
 
 __all__ = ["CurvatureExplorer"]
 
@@ -116,9 +116,7 @@ class CurvatureExplorer(Explorer):
     window_size, live, backend
         As :class:`lab.view.explorers.base.Explorer`.
     scan, tolerance : optional
-        A scan of the part (points, a scan file or a mesh) and the tolerance: the tools' "map" menu then offers
-        the scan's signed distance to the part (:func:`lab.deviation`, ``self.deviation``), coloured graded or
-        in three bands, grey where nothing was scanned.
+        A scan of the part (points, file or mesh): the tools' map menu then offers its deviation (``self.deviation``).
     """
 
     title = N_("curvature explorer")
@@ -204,14 +202,7 @@ class CurvatureExplorer(Explorer):
             self.range_mode.disabled = True
         # draft angle, minimum radius, combs and the point probe (lab/view/explorers/tools.py): on surfaces and
         # models (the combs and the probe on a face chosen there)
-        # a scan of the part (points, a file, a mesh): its deviation becomes one of the tools' maps
-        self.deviation = None
-        if scan is not None:
-            if student:
-                raise TypeError("a scan's deviation is shown on the library's surface, not with patches_class")
-            from ...interrogation.deviation import deviation
-
-            self.deviation = deviation(scan, surface, tolerance)
+        self.deviation = scan_deviation(surface, scan, tolerance, student)  # a scan: one of the tools' maps
         self.tools = (CurvatureTools(self) if not student and (hasattr(surface, "derivatives") or self.model is not None)
                       else None)
         self._build_scene()

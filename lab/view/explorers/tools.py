@@ -30,6 +30,17 @@ PULLS = (("+z", (0.0, 0.0, 1.0)), ("−z", (0.0, 0.0, -1.0)), ("+x", (1.0, 0.0, 
          ("+y", (0.0, 1.0, 0.0)), ("−y", (0.0, -1.0, 0.0)))
 
 
+def scan_deviation(surface, scan, tolerance, student=False):
+    """The :func:`lab.deviation` of a scan given to the curvature explorer (None without one)."""
+    if scan is None:
+        return None
+    if student:
+        raise TypeError("a scan's deviation is shown on the library's surface, not with patches_class")
+    from ...interrogation.deviation import deviation
+
+    return deviation(scan, surface, tolerance)
+
+
 class CurvatureTools:
     """Widgets and overlays the :class:`~lab.view.explorers.CurvatureExplorer` shows below its curvature controls.
 
