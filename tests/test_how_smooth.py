@@ -1,4 +1,6 @@
-"""lab.interrogation.knot_lines: the close-up of a knot line in notebook 12 shows what its text says.
+"""Notebooks 11 and 12 as a student reads them (issue 36): pictures that show what the text says, readable printouts.
+
+lab.interrogation.knot_lines: the close-up of a knot line in notebook 12 shows what its text says.
 
 The sheet of notebook 12 with the knot v = 2 of multiplicity 1, 2, 3 and the column next to it lifted by 0.05
 (G2, G1, G0 by lab.continuity).  Reflection lines (light lines along (1, 1, 0), eye (0.2, -0.3, 1)) on the two
@@ -6,10 +8,14 @@ one-sided pieces: across G2 they turn by less than KINK_G2 degrees where they me
 0: the normal is C1 across), across G1 by more than KINK_G1 degrees, and across G0 no light line continues:
 its nearest end on the other side lies more than GAP_G0 away (the sheet is 3 wide)."""
 
+import os
+
 import numpy as np
 import pytest
 
 import lab
+from lab import render, surfaces
+from lab.i18n import set_language
 from lab.interrogation.knot_lines import knot_line_mesh, line_crossings
 
 KINK_G2, KINK_G1, GAP_G0 = 1.0, 45.0, 0.5
@@ -82,3 +88,71 @@ def test_bad_input_is_named():
         knot_line_mesh(s, "v", 4.0, 0.5)
     with pytest.raises(ValueError, match="knot_line_mesh"):
         line_crossings(lab.reflection_lines(lab.mesh.surface_mesh(s, 20, 20)), lab.mesh.surface_mesh(s, 20, 20))
+
+
+# -- umbilics marked where lines of curvature end; printouts for people -------------------------------------------
+
+
+def test_marks_are_drawn_where_the_points_are():
+    """A white dot in a black ring at each mark: the picture with marks differs from the one without only near
+    the projected mark (the plane z = 0 seen from above, a mark at its centre)."""
+    X, Y = np.meshgrid(np.linspace(-1, 1, 4), np.linspace(-1, 1, 4), indexing="ij")
+    plane = lab.BSplineSurface(np.stack([X, Y, np.zeros((4, 4))], axis=-1), [0] * 4 + [1] * 4, [0] * 4 + [1] * 4, 3, 3)
+    options = {"window_size": (200, 200), "legend": False, "direction": (0, 0, 1)}
+    bare = render.picture(plane, **options).astype(int)
+    marked = render.picture(plane, marks=[[0.0, 0.0, 0.0]], **options).astype(int)
+    changed = np.argwhere(np.any(np.abs(marked - bare) > 40, axis=-1))
+    assert len(changed) > 20
+    centre = changed.mean(axis=0)
+    assert np.all(np.abs(changed - centre).max(axis=0) < 12), "the mark is one dot of at most 15 pixels"
+    assert np.all(marked[tuple(np.round(centre).astype(int))] > 230), "white in the middle"
+    assert marked[changed[:, 0], changed[:, 1]].min() < 40, "a black ring"
+    with pytest.raises(ValueError, match="marks must be finite points"):
+        render.picture(plane, marks=[[0.0, 0.0]], **options)
+
+
+@pytest.fixture
+def german():
+    set_language("de")
+    yield
+    set_language("en")
+
+
+def test_an_umbilic_prints_as_a_line_for_people(german):
+    """The ellipsoid (3, 2, 1): lemons at (±2.371708, 0, ±0.612372) (closed form), no -0 or e-16 in y."""
+    found = lab.umbilics(surfaces.ellipsoid(3, 2, 1))
+    text = str(found[0])
+    assert text.startswith("Nabelpunkt (Zitrone, Index +0,5) bei (2,37171; 0; 0,612372)"), text
+    assert "e-" not in text and "-0;" not in text and "Umbilic(" not in text
+    set_language("en")
+    assert str(found[0]).startswith("umbilic (lemon, index +0.5) at (2.37171, 0, 0.612372)")
+
+
+def test_principal_directions_print_in_two_lines(german):
+    c = surfaces.ellipsoid(3, 2, 1).curvature(0.3, 0.3, directions=True)
+    first, second = str(c).split("\n")
+    assert first.startswith(f"K = {float(c.K):.6g}".replace(".", ",")) and "κ1 = " in first
+    assert second.startswith("d1 = (") and ";" in second and "." not in second
+    assert "CurvatureDirections(" in repr(c)  # the repr stays the record
+
+
+def test_continuity_writes_open_edges_in_german(german):
+    """Issue 36: "none: 0" in the German table; the level "none" is written "offen"."""
+    report = lab.continuity(sheet(1))
+    assert "offen: 0" in report.table() and "none" not in report.table()
+    assert report.summary() in report.table()
+
+
+def test_a_model_prints_its_file_name_not_the_machines_path():
+    model = lab.models.teapot()
+    assert os.path.basename(model.path) in repr(model)
+    assert os.path.dirname(model.path) not in repr(model)
+
+
+def test_the_face_menu_speaks_german(german):
+    from lab.view.explorers.models import face_label
+
+    labels = [face_label(f) for f in lab.models.linkrods().faces]
+    assert "1: Zylinder" in labels
+    assert any(label.endswith(("Ebene, umgekehrt orientiert", "Zylinder, umgekehrt orientiert")) for label in labels)
+    assert not any(kind in label for label in labels for kind in ("Cylinder", "Plane", "BSplineSurface"))  # "Torus" is German too

@@ -69,6 +69,30 @@ class CurvatureDirections(NamedTuple):
     def __repr__(self):
         return _plain_repr(self)
 
+    def __str__(self):
+        """At one point: the curvatures and the two directions in two lines, in the lab's language (decimal commas
+        in German); for arrays of points the plain repr."""
+        if np.ndim(self.K) != 0:
+            return _plain_repr(self)
+        from ..i18n import _, decimal, language
+
+        sep = "; " if language() == "de" else ", "
+
+        def num(x):
+            return f"{float(np.round(x, 6)) + 0.0:.6g}"  # + 0.0: no -0
+
+        def vec(d):
+            return "(" + sep.join(num(x) for x in d) + ")"
+
+        text = f"K = {num(self.K)}, H = {num(self.H)}, κ1 = {num(self.k1)}, κ2 = {num(self.k2)}"
+        if bool(self.umbilic):
+            text += "\n" + _("an umbilic: every direction is principal (d1, d2 undefined)")
+        elif bool(self.degenerate):
+            text += "\n" + _("a degenerate point: no normal, no directions")
+        else:
+            text += f"\nd1 = {vec(self.d1)}, d2 = {vec(self.d2)}"
+        return decimal(text)
+
 
 def _norm3(x):
     return np.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])

@@ -40,6 +40,13 @@ __all__ = ["LEVELS", "TOLERANCES", "Continuity", "Edge", "continuity", "measures
 
 #: What an edge can achieve, worst first.
 LEVELS = ("none", "G0", "G1", "G2")
+#: How a level is written for people: "none" (not even closed) as "open" (German "offen"); the others as they are.
+LEVEL_NAMES = {"none": N_("open")}
+
+
+def level_name(level):
+    """``level`` ("none", "G0", "G1", "G2") as the table and the legends write it, in the current language."""
+    return _(LEVEL_NAMES[level]) if level in LEVEL_NAMES else level
 #: the edge kinds as the table names them (marked for translation)
 EDGE_KINDS = {"knot line": N_("knot line"), "seam": N_("seam"), "patch border": N_("patch border"),
               "face edge": N_("face edge")}
@@ -123,6 +130,13 @@ class Continuity:
         """``{level: number of edges}`` for the four levels."""
         return {level: sum(e.achieved == level for e in self.edges) for level in LEVELS[::-1]}
 
+    def summary(self):
+        """One line: the number of edges, how many achieve each level, and the level of the whole (current
+        language)."""
+        counts = ", ".join(f"{level_name(k)}: {n}" for k, n in self.counts().items())
+        return _("{n} edges ({counts}); overall {level}").format(n=len(self.edges), counts=counts,
+                                                                 level=level_name(self.achieved))
+
     def table(self, max_rows=20):
         """A plain-text table: one row per edge (the ``max_rows`` worst when there are more), the tolerances.
 
@@ -141,12 +155,10 @@ class Continuity:
             else:
                 name = f"{kind} {min(e.faces)}|{max(e.faces)}"
             numbers = decimal(f"{e.g0:10.3g} {e.g1:15.3g} {e.g2:19.3g}")
-            lines.append(f"{name:<26} {numbers} {e.achieved:>9}")
+            lines.append(f"{name:<26} {numbers} {level_name(e.achieved):>9}")
         if len(rows) > max_rows:
             lines.append(_("… {n} more edges").format(n=len(rows) - max_rows))
-        counts = ", ".join(f"{k}: {n}" for k, n in self.counts().items())
-        lines.append(_("{n} edges ({counts}); overall {level}").format(n=len(self.edges), counts=counts,
-                                                                       level=self.achieved))
+        lines.append(self.summary())
         lines.append(decimal(_("tolerances: G0 gap <= {g0} ({tol_g0} x size {size}), G1 angle <= {g1} deg, "
                                "G2 jump <= {g2} x (max |kn| + 1/size)").format(
             g0=f"{tol['g0'] * self.size:.3g}", tol_g0=f"{tol['g0']:g}", size=f"{self.size:.4g}", g1=f"{tol['g1']:g}",

@@ -67,6 +67,20 @@ class Umbilic:
         return (f"Umbilic({self.kind}, index {self.index:+g}, uv=({self.uv[0]:.6g}, {self.uv[1]:.6g}), "
                 f"point={np.array2string(self.point, precision=6)}, k={self.k:.6g})")
 
+    def __str__(self):
+        """One line for a person, in the lab's language (decimal commas in German, no ``-0`` or ``e-16``)."""
+        from ..i18n import N_, _, decimal, language
+
+        kinds = {"lemon": N_("lemon"), "monstar": N_("monstar"), "star": N_("star")}
+        sep = "; " if language() == "de" else ", "
+
+        def num(x):
+            return f"{float(np.round(x, 6)) + 0.0:.6g}"  # + 0.0: -0 (rounding noise of a zero) prints as 0
+
+        return decimal(_("umbilic ({kind}, index {index}) at ({point}), (u, v) = ({uv}), κ = {k}").format(
+            kind=_(kinds.get(self.kind, self.kind)), index=f"{self.index:+g}", point=sep.join(map(num, self.point)),
+            uv=sep.join(map(num, self.uv)), k=num(self.k)))
+
 
 def traceless(d):
     """The traceless part ``z`` (complex) of the second fundamental form in the frame ``e1, e2``, the mean

@@ -323,13 +323,32 @@ def _window(size, name="window_size"):
     return w, h
 
 
+def _add_marks(plotter, points, height, ring=15, dot=8):
+    """Points as white dots in black rings (seen on every colour of every map), after the camera is set: the dots are
+    moved towards the eye by a ring's radius so that they lie in front of their own ring, yet behind the surface
+    where the point is on its far side."""
+    cam = plotter.camera
+    eye = np.asarray(cam.position, dtype=float)
+    towards = eye - points
+    distance = np.linalg.norm(towards, axis=1, keepdims=True)
+    if cam.parallel_projection:
+        pixel = 2.0 * cam.parallel_scale / height
+    else:
+        pixel = distance * 2.0 * np.tan(np.radians(cam.view_angle) / 2) / height
+    for colour, size, shift in (("black", ring, 0.0), ("white", dot, ring / 2)):
+        actor = plotter.add_points(points + towards / distance * pixel * shift, color=colour, point_size=size,
+                                   render_points_as_spheres=True, lighting=False, reset_camera=False)
+        actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
+        actor.mapper.SetRelativeCoincidentTopologyPointOffsetParameter(style.LINE_OFFSET_UNITS)
+
+
 def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None, camera=None, background="white",
-                shading="smooth", borders=None):
+                shading="smooth", borders=None, marks=None):
     """The bare 3D view of ``mesh`` in the lab's style (no frame), ``size`` = (width, height); RGB array.
 
     ``shading="flat"`` draws ``mesh`` (with cell colours) as Dill did: flat polygons lit by one light at the eye.
     ``lines`` (polylines, e.g. reflection lines) are drawn in black over the surface, ``borders`` (a model's
-    face borders) in dark grey.
+    face borders) in dark grey, ``marks`` (points, e.g. umbilics) as white dots in black rings in front of the surface.
     """
     size = _window(size, "size")
     configure_offscreen()
@@ -357,6 +376,8 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
         azimuth, elevation = camera if camera is not None else (None, None)
         fit_to = mesh if net is None else mesh.merge(pv.PolyData(net[1])) if mesh.n_points else pv.PolyData(net[1])
         style.fit_camera(plotter, fit_to, direction, azimuth=azimuth, elevation=elevation)
+        if marks is not None and len(marks):
+            _add_marks(plotter, np.asarray(marks, dtype=float).reshape(-1, 3), size[1])
         return np.asarray(plotter.screenshot(None, return_img=True))[..., :3]
     finally:
         plotter.close()
@@ -364,7 +385,7 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
 
 def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edges=False, net=False, title=None,
             resolution=1, n=None, direction=None, camera=None, map_options=None, legend=True, shading="smooth",
-            lines=None, band_lines=False, simulate=None):
+            lines=None, band_lines=False, simulate=None, marks=None):
     """A picture of patches, a surface, a model or a mesh in the lab's style, as an RGB array (height, width, 3).
 
     Parameters
@@ -388,6 +409,8 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
         Draw the control nets of patches.
     lines : pyvista.PolyData, optional
         Polylines drawn in black over the surface, e.g. :func:`lab.reflection_lines` or :func:`lab.isophotes`.
+    marks : (n, 3) array_like, optional
+        Points marked as white dots in black rings, e.g. the umbilics (:func:`lab.umbilics`) where lines of curvature end.
     title : str, optional
     n : int, optional
         Lines per direction of a surface's grid (default 64) or per face of a model (default 16).
@@ -450,8 +473,12 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
     borders = face_borders(mesh) if edges else None
     if borders is not None and borders.n_points:
         edges = False  # a model's triangles mean nothing: its faces' borders instead
+    if marks is not None:
+        marks = np.asarray(marks, dtype=float)
+        if marks.size and (marks.ndim not in (1, 2) or marks.shape[-1] != 3 or not np.all(np.isfinite(marks))):
+            raise ValueError(f"marks must be finite points of shape (n, 3); got shape {marks.shape}")
     view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, lines=lines, direction=direction,
-                       camera=camera, shading=shading, borders=borders)
+                       camera=camera, shading=shading, borders=borders, marks=marks)
     return vision.simulate_image(style.compose(view, frame, title=title, legend=chosen), simulate)
 
 

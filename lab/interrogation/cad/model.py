@@ -5,6 +5,7 @@ Rhino file.  Nothing here needs OpenCASCADE: a model is plain arrays and lab
 surfaces, so it can be meshed, interrogated and pickled without ``OCP``.
 """
 
+import os
 from typing import NamedTuple
 
 import numpy as np
@@ -230,7 +231,7 @@ class Model:
     def __repr__(self):
         kinds = ", ".join(f"{n} {k}" for k, n in sorted(self.kinds().items()))
         bad = _(", {n} problems").format(n=len(self.problems)) if self.problems else ""
-        where = _(" from {path}").format(path=self.path) if self.path else ""
+        where = _(" from {path}").format(path=os.path.basename(self.path)) if self.path else ""  # no machine paths
         edges = (_("shared edges found on first use") if callable(self._edges)
                  else _("{n} shared edges").format(n=len(self._edges)))
         return _("Model({n} faces: {kinds}; {edges}{problems}{where})").format(

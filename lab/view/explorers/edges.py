@@ -10,7 +10,7 @@ import numpy as np
 import pyvista as pv
 
 from ...i18n import _
-from ...interrogation.continuity import LEVELS, continuity
+from ...interrogation.continuity import LEVELS, continuity, level_name
 from ...interrogation.faces import is_model
 from ...model.patches import BezierPatches
 from ...model.surface import BSplineSurface
@@ -68,7 +68,7 @@ def edge_legend_html(report):
     for level in LEVELS[::-1]:
         swatch = (f'<span style="display:inline-block;width:14px;height:4px;background:{EDGE_COLORS[level]};'
                   f'border:1px solid #555;vertical-align:middle"></span>')
-        items.append(f"{swatch} {html.escape(level)}: {counts[level]}")
+        items.append(f"{swatch} {html.escape(level_name(level))}: {counts[level]}")
     title = html.escape(_("edges by continuity"))
     return f"<small>{title}: " + " &nbsp; ".join(items) + "</small>"
 
