@@ -125,6 +125,10 @@ def test_stats(dented):
     lo, hi = d.tolerance
     assert s.within == np.mean((x >= lo) & (x <= hi)) and s.above + s.below + s.within == pytest.approx(1.0)
     assert "share within tolerance" in s.table() and len(d.outside()) == round((1 - s.within) * s.count)
+    with lab.i18n.using("de"):  # in German: the names translated, decimal commas, the columns aligned
+        rows = s.table().splitlines()
+    assert rows[8].startswith("Anteil innerhalb der Toleranz") and "," in rows[1]
+    assert len({len(row) for row in rows[:-1]}) == 1
 
 
 def test_tolerance_and_colours():

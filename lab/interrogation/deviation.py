@@ -88,10 +88,11 @@ class DeviationStats:
     def table(self):
         """The statistics as plain text in the current language (German with decimal commas)."""
         lines = []
+        width = max(len(_(name)) for _key, name, _unit in STATISTICS)  # the names' column fits the language's longest
         for key, name, unit in STATISTICS:
             value = getattr(self, key)
             text = f"{value:d}" if key == "count" else f"{100 * value:.1f} %" if unit == "1" else f"{value:.6g}"
-            lines.append(f"{_(name):<26} {decimal(text):>14}")
+            lines.append(f"{_(name):<{width}} {decimal(text):>14}")
         lo, hi = self.tolerance
         lines.append(decimal(_("tolerance: {lo} … {hi}").format(lo=f"{lo:.6g}", hi=f"{hi:.6g}")))
         return "\n".join(lines)
