@@ -370,3 +370,32 @@ def test_every_explorer_keeps_its_labels_and_status_on_one_line(browser, lab_ser
     red = lambda img: np.mean((img[56:, :, 0] > img[56:, :, 1] + 60) & (img[56:, :, 0] > img[56:, :, 2] + 60))
     assert red(after) > red(before) + 0.002, f"the control net is not visible; see {nb.shot('net-' + lang)}"
     nb.page.close()
+
+
+@pytest.mark.parametrize("lang", LANGUAGES)
+def test_opening_a_notebook_does_not_mark_it_modified(browser, lab_server, tmp_path, lang):
+    """Issue 36: a notebook's tab showed "modified" right after opening, before anything ran: JupyterLab wrote its
+    kernel's kernelspec and language_info over the generated ones.  The generator now writes what the kernel says
+    (lab.teaching.course.exercises.kernel_metadata); after the kernel's info has arrived nothing has changed."""
+    root, url, token = lab_server
+    name = f"opened-{lang}-11_real_part.ipynb"
+    shutil.copy(ROOT / "solutions" / lang / "11_real_part.ipynb", root / name)
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    nb = Notebook(page, url, token, name, tmp_path / "shots")
+    deadline, state = time.time() + 60, None
+    while time.time() < deadline:  # the kernel's language_info arrives after the kernel is idle
+        state = page.evaluate("""(name) => {
+            for (const w of window.jupyterapp.shell.widgets('main')) {
+                if (w.context && w.context.path === name) {
+                    const info = w.context.model.getMetadata('language_info') || {};
+                    return {dirty: w.context.model.dirty, version: info.version || null};
+                }
+            }
+            return null;
+        }""", name)
+        if state and state["version"]:
+            break
+        time.sleep(0.5)
+    assert state and state["version"], f"the kernel's language_info never arrived: {state}"
+    assert not state["dirty"], f"{name} is marked modified right after opening; see {nb.shot('modified-on-open')}"
+    page.close()

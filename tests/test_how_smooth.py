@@ -156,3 +156,14 @@ def test_the_face_menu_speaks_german(german):
     assert "1: Zylinder" in labels
     assert any(label.endswith(("Ebene, umgekehrt orientiert", "Zylinder, umgekehrt orientiert")) for label in labels)
     assert not any(kind in label for label in labels for kind in ("Cylinder", "Plane", "BSplineSurface"))  # "Torus" is German too
+
+
+def test_hint_boxes_wrap_at_word_boundaries():
+    """JupyterLab sets ``word-break: break-all`` on an output's <pre> ("tw|isted"): the report's box overrides it."""
+    from lab import check
+
+    def principal_directions(bu, bv, buu, buv, bvv):
+        return np.zeros((2, 3))
+
+    box = check.principal_directions(principal_directions)._repr_html_()
+    assert "word-break:normal" in box and "overflow-wrap:break-word" in box and "white-space:pre-wrap" in box

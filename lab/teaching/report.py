@@ -146,7 +146,9 @@ class Report:
     def _repr_html_(self):
         colour = "#1a7f37" if self.passed else ("#9a6700" if self.status == "not implemented" else "#cf222e")
         body = html.escape("\n".join(self.lines()))
-        return f'<pre style="border-left:4px solid {colour};padding:0.4em 0.8em;white-space:pre-wrap">{body}</pre>'
+        # JupyterLab breaks an output's <pre> anywhere (word-break: break-all): at word boundaries here
+        return (f'<pre style="border-left:4px solid {colour};padding:0.4em 0.8em;white-space:pre-wrap;'
+                f'word-break:normal;overflow-wrap:break-word">{body}</pre>')
 
 
 def _others(failed):

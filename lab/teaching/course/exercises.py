@@ -173,6 +173,20 @@ def _set_language(source, lang):
     return _after_import(source, SET_LANGUAGE[lang]) if lang in SET_LANGUAGE else source
 
 
+#: The kernel JupyterLab starts for a generated notebook, as it writes it into the notebook's metadata on opening:
+#: ipykernel's own spec.  A notebook whose metadata differ is marked modified as soon as it is opened (issue 36).
+KERNELSPEC = {"name": "python3", "display_name": "Python 3 (ipykernel)", "language": "python"}
+
+
+def kernel_metadata():
+    """``kernelspec`` and ``language_info`` as JupyterLab writes them on opening a notebook with this Python's
+    ipykernel (its ``language_info`` names the Python version, so only a kernel of the same version finds them
+    unchanged)."""
+    from ipykernel.ipkernel import IPythonKernel
+
+    return {"kernelspec": dict(KERNELSPEC), "language_info": copy.deepcopy(IPythonKernel.language_info)}
+
+
 def localize(source, lang):
     """The solution notebook in ``lang`` for a bilingual source notebook (a new object; the input is unchanged)."""
     _lang(lang)
@@ -194,6 +208,7 @@ def localize(source, lang):
                 cell.source, first_code = _set_language(cell.source, lang), False
         cells.append(cell)
     nb.cells = cells
+    nb.metadata.update(kernel_metadata())
     meta = nb.metadata.setdefault("lab", {})
     title_de = meta.pop("title_de", None)
     if lang == "de" and title_de:
@@ -206,7 +221,9 @@ def localize(source, lang):
 def _content(nb):
     """What a generated notebook consists of, outputs and execution counts aside."""
     cells = [(c.cell_type, c.get("id"), c.source, dict(c.metadata)) for c in nb.cells]
-    return json.dumps([cells, dict(nb.metadata)], ensure_ascii=False, sort_keys=True, default=str)
+    # the Python version in language_info is the generating machine's: another version is no reason to rewrite
+    meta = {k: v for k, v in nb.metadata.items() if k != "language_info"}
+    return json.dumps([cells, meta], ensure_ascii=False, sort_keys=True, default=str)
 
 
 def digest(nb):

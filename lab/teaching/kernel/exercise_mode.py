@@ -97,7 +97,8 @@ class _Line:
     def _repr_html_(self):
         import html
 
-        return ('<div style="border-left:4px solid #9a6700;padding:0.2em 0.8em;white-space:pre-wrap">'
+        return ('<div style="border-left:4px solid #9a6700;padding:0.2em 0.8em;white-space:pre-wrap;'
+                'word-break:normal;overflow-wrap:break-word">'
                 f"{html.escape(self.text)}</div>")
 
 
