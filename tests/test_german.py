@@ -109,3 +109,35 @@ def test_german_notebooks_print_german(path, tmp_path):
     english = [f"cell {i}: {sorted(set(words))} in {text.strip()[:160]!r}" for i, text in _outputs(nb)
                for words in [english_words(text)] if words]
     assert not english, "English in the outputs of " + path.name + ":\n" + "\n".join(english)
+    if path.stem not in LEFTOVER_CHECKED:
+        return
+    leftovers = [f"cell {i}: {found!r} in {text.strip()[:160]!r}" for i, text in _outputs(nb)
+                 for found in [leftover(text)] if found]
+    assert not leftovers, "leftovers in the outputs of " + path.name + ":\n" + "\n".join(leftovers)
+
+
+#: What a German printout must not show (issue 36): a decimal point in a number, the level "none", "exact", a raw
+#: repr of the lab's records, a path of the machine, a negative zero.
+LEFTOVERS = re.compile(r"(?<![\w.])[-+]?\d+\.\d+(?:e[-+]?\d+)?(?![\w.])|\bnone: \d|\bexact\b|\b(?:Umbilic|CurvatureDirections|Model)\("
+                       r"|(?:^|[\s(\[])/(?:home|work|usr|tmp|opt)/|-0,0+\b")
+
+
+#: The notebooks whose German outputs are free of them (issue 36); notebooks 00–10 and 13 still print decimal
+#: points (found on 2026-12-07: every one of them has some).
+LEFTOVER_CHECKED = {"11_real_part", "12_how_smooth"}
+
+
+def leftover(text):
+    """The first leftover of English or of the machine in a German output, or None."""
+    found = LEFTOVERS.search(text)
+    return found.group() if found else None
+
+
+def test_the_leftover_check_finds_each_leftover():
+    for text in ("Winkel 1.95e-14 Grad", "99 Kanten (G2: 1, none: 0)", "|d1 . exact d1|", "Umbilic(lemon, index +0.5",
+                 "CurvatureDirections(K=0.6", "Model(32 Flächenstücke", "aus /work/main/lab/teapot.bbp",
+                 "k2 = -0,0000"):
+        assert leftover(text), text
+    for text in ("Winkel 1,95e-14 Grad", "99 Kanten (G2: 1, offen: 0)", "shell1.brep", "k2 = +0,0000  Radius 0,3953",
+                 "Flächenstück 13 (B-Spline-Fläche)", "Nabelpunkt (Zitrone, Index +0,5) bei (2,37171; 0; 0,612372)"):
+        assert not leftover(text), text

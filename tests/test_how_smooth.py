@@ -147,6 +147,12 @@ def test_a_model_prints_its_file_name_not_the_machines_path():
     model = lab.models.teapot()
     assert os.path.basename(model.path) in repr(model)
     assert os.path.dirname(model.path) not in repr(model)
+    assert str(model) == "teapot.bbp: 32 faces (Bézier surface × 32); 0 shared edges"
+    set_language("de")
+    try:
+        assert str(model) == "teapot.bbp: 32 Flächenstücke (Bézier-Fläche × 32); 0 gemeinsame Kanten"
+    finally:
+        set_language("en")
 
 
 def test_the_face_menu_speaks_german(german):

@@ -10,7 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...i18n import _
+from ...i18n import N_, _
 from .orientation import flip
 
 __all__ = ["Edge", "Face", "Model", "Problem"]
@@ -134,6 +134,18 @@ class Face:
         return f"Face({self.index}, {self.kind}, {self.surface!r}{trim}{side}{approx})"
 
 
+#: What a file stores (:attr:`Face.kind`, OpenCASCADE's type names) as people read it, in the lab's language.
+KIND_NAMES = {"Plane": N_("plane"), "Cylinder": N_("cylinder"), "Cone": N_("cone"), "Sphere": N_("sphere"),
+              "Torus": N_("torus"), "BezierSurface": N_("Bézier surface"), "BSplineSurface": N_("B-spline surface"),
+              "SurfaceOfRevolution": N_("surface of revolution"), "SurfaceOfExtrusion": N_("extrusion"),
+              "OffsetSurface": N_("offset surface"), "OtherSurface": N_("other surface")}
+
+
+def kind_name(kind):
+    """A face's ``kind`` as people read it, in the current language (the code name if it is not known)."""
+    return _(KIND_NAMES[kind]) if kind in KIND_NAMES else kind
+
+
 class Model:
     """A part read from a file: its faces in the file's order, the edges they share and what could not be read.
 
@@ -236,3 +248,13 @@ class Model:
                  else _("{n} shared edges").format(n=len(self._edges)))
         return _("Model({n} faces: {kinds}; {edges}{problems}{where})").format(
             n=len(self.faces), kinds=kinds, edges=edges, problems=bad, where=where)
+
+    def __str__(self):
+        """The part for people, in the lab's language: the file's name, the faces by kind, the edges, the problems."""
+        kinds = ", ".join(f"{kind_name(k)} × {n}" for k, n in sorted(self.kinds().items()))
+        name = os.path.basename(self.path) if self.path else _("a part")
+        edges = (_("shared edges found on first use") if callable(self._edges)
+                 else _("{n} shared edges").format(n=len(self._edges)))
+        bad = _(", {n} problems").format(n=len(self.problems)) if self.problems else ""
+        return _("{name}: {n} faces ({kinds}); {edges}{problems}").format(name=name, n=len(self.faces), kinds=kinds,
+                                                                          edges=edges, problems=bad)

@@ -10,8 +10,9 @@ import numpy as np
 import pyvista as pv
 
 from ...geometry import validation as _v
-from ...i18n import N_, _
+from ...i18n import _
 from ...interrogation.cad.mesh import face_arrays
+from ...interrogation.cad.model import kind_name
 from ...interrogation.faces import fill_normals, is_model
 from ..render import face_borders
 
@@ -79,18 +80,10 @@ def face_mesh(face, n=32):
     return _assemble([face], [face_arrays(face, n, n)])
 
 
-#: What a file stores (:attr:`lab.interrogation.cad.model.Face.kind`, OpenCASCADE's type names) as the menu says it.
-KIND_NAMES = {"Plane": N_("plane"), "Cylinder": N_("cylinder"), "Cone": N_("cone"), "Sphere": N_("sphere"),
-              "Torus": N_("torus"), "BezierSurface": N_("Bézier surface"), "BSplineSurface": N_("B-spline surface"),
-              "SurfaceOfRevolution": N_("surface of revolution"), "SurfaceOfExtrusion": N_("extrusion"),
-              "OffsetSurface": N_("offset surface"), "OtherSurface": N_("other surface")}
-
-
 def face_label(face):
     """How the face menu names a face: its index in the file and what the file stores, in the lab's language."""
     side = _(", reversed") if face.reversed else ""
-    kind = _(KIND_NAMES[face.kind]) if face.kind in KIND_NAMES else face.kind
-    return f"{face.index}: {kind}{side}"
+    return f"{face.index}: {kind_name(face.kind)}{side}"
 
 
 def default_point(mesh, index):
