@@ -16,7 +16,7 @@ from .geometry.curvature import CurvatureMode
 from .geometry.vision import DEFICIENCIES
 from .i18n import N_, _
 from .model import surfaces
-from .view.render_command import MODELS, OUTPUT_SUFFIXES
+from .view.render_command import MAX_PATCHES, MODELS, OUTPUT_SUFFIXES
 
 
 def _pull(text):
@@ -57,7 +57,7 @@ def _render(args, parser):
 
     try:
         return render_command.run(args)
-    except render_command.UsageError as exc:
+    except ValueError as exc:  # a refusal, or the lab's own clear message about the options' values
         parser.error(str(exc))
 
 
@@ -91,6 +91,9 @@ def build_parser():
                    "lab, the others come from OpenCASCADE's sample data or pyiges), meshed as --file"))
     r.add_argument("--depth", type=int, default=1, help=_("subdivision depth: 4**depth patches per patch (default: 1)"))
     r.add_argument("--resolution", type=int, default=1, help=_("quads per patch edge in the mesh (default: 1)"))
+    r.add_argument("--max-patches", type=int, default=MAX_PATCHES, metavar="N",
+                   help=_("refuse a render of more than N patches (or grid cells) before it starts (default: "
+                          "{n}); raise it if you can wait").format(n=MAX_PATCHES))
     r.add_argument("--window-size", type=_window_size, default=(1024, 768), help=_("PNG size, e.g. 1024x768"))
     r.add_argument("--edges", action="store_true", help=_("draw the patch/mesh edges (at --resolution 1: the patch "
                    "borders; on a part: the faces' borders)"))

@@ -1,6 +1,7 @@
 """Issue 19, item 7: each bad input of the issue's "library and CLI" list gets a clear error naming the parameter,
 what was expected and what was received, or a flag and a warning where the geometry is degenerate."""
 
+import re
 import subprocess
 import sys
 
@@ -255,3 +256,100 @@ def test_grading_an_empty_folder_and_bad_limits(tmp_path):
     for option, value in (("--timeout", "-5"), ("--memory", "0")):
         r = cli("grade", str(tmp_path), option, value)
         assert r.returncode == 2 and f"argument {option}: expected a positive number; got '{value}'" in r.stderr
+
+
+# -- issue 35: the last 5% (each test failed before its fix; the fuzzer, tests/test_fuzz.py, finds the kind)
+
+
+def test_crash_by_allocation_a_huge_broadcast_view_is_estimated_not_copied():
+    """Before: practical_height copied a (10^5, 10^5) view into 74.5 GiB (MemoryError)."""
+    view = np.broadcast_to(np.float64(0.5), (10**5, 10**5))
+    with pytest.raises(ValueError, match=r"practical_height at 10000000000 points " + TOO_MUCH):
+        surfaces.practical_height(view, 0.5)
+
+
+def test_hang_render_depth_8_is_refused_within_seconds_with_the_estimate(tmp_path):
+    """Before: `render --depth 8` (3.2 million patches) worked for minutes without a word."""
+    run = cli("render", "--surface", "practical", "--depth", "8", "-o", str(tmp_path / "p.vtp"))
+    assert run.returncode == 2 and "Traceback" not in run.stderr
+    assert re.search(r"--depth 8 would build 3211264 patches \(about \d+ s\), more than --max-patches 1000000: "
+                     r"use --depth 7 or less, or raise --max-patches", run.stderr), run.stderr
+    assert not (tmp_path / "p.vtp").exists()
+
+
+def test_hang_a_line_of_curvature_of_absurd_length_is_refused():
+    """Before: line_of_curvature(..., length=1e308) integrated until interrupted."""
+    with pytest.raises(ValueError, match=r"length must be at most 100 times the surface's size"):
+        lab.line_of_curvature(surfaces.ellipsoid(), (0.3, 0.4), "k1", 1e308)
+
+
+def test_silent_garbage_text_where_numbers_go():
+    """Before: practical_height('0.5', ...) failed in numpy; an array of text was taken as numbers."""
+    with pytest.raises(TypeError, match=r"x must be an array of numbers; got str '0.5'"):
+        surfaces.practical_height("0.5", 0.5)
+    with pytest.raises(TypeError, match=r"u must be an array of numbers; got an array of <U3"):
+        surfaces.torus().curvature(np.array(["0.5"]), 0.5)
+
+
+def test_silent_garbage_set_curvature_nan_is_flagged_and_inf_refused():
+    patches = lab.BezierPatches(np.random.default_rng(35).random((1, 4, 4, 3)))
+    with pytest.warns(DegeneratePointWarning, match=r"set_curvature: c00 is NaN .* painted grey"):
+        patches[0].set_curvature(np.nan, 0.5, 0.5, 0.5)
+    with pytest.raises(ValueError, match=r"set_curvature: c11 must be a finite number; got inf"):
+        patches[0].set_curvature(0.5, 0.5, 0.5, np.inf)
+
+
+def test_silent_garbage_f2_near_the_float_limit_is_exact():
+    """Before: 1.7e308 - (-1.7e308) overflowed: NaN colours and numpy's RuntimeWarning."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        t = C.f2(np.array([1.7e308, -1.7e308, 0.0, 0.85e308]))
+    np.testing.assert_allclose(t, [1.0, 0.0, 0.5, 0.75], atol=1e-15)
+
+
+def test_silent_garbage_junk_seams_are_refused():
+    net = np.zeros((2, 4, 4, 3)) + np.random.default_rng(35).random((4, 4, 3))
+    for junk in ("x", 3, (1, 2), ((1, 2), (3, 4))):
+        with pytest.raises(TypeError, match=r"seams must be Seams\(\(periodic_u, periodic_v\)"):
+            lab.BezierPatches(net, None, (1, 2), junk)
+    good = lab.BezierPatches(net, None, (1, 2), ((True, False), ((False, True), (False, False))))
+    assert good.seams.periodic == (True, False) and good.seams.collapsed == ((False, True), (False, False))
+
+
+def test_silent_garbage_a_colour_map_without_its_measure():
+    """Before: picture(surface, color_map='linear') drew a grey picture of nothing."""
+    with pytest.raises(ValueError, match=r"color_map needs curvature: a colour map colours a curvature measure"):
+        lab.render.picture(surfaces.plane(), color_map="linear", window_size=(64, 48))
+
+
+def test_unclear_messages_become_the_labs():
+    from lab.geometry.derivatives import Derivatives
+
+    with pytest.raises(ValueError, match=r"R must be a finite number; got an integer of about 1e\+400"):
+        surfaces.torus(10**400, 1.0)  # before: OverflowError: int too large to convert to float
+    with pytest.raises(TypeError, match=r"derivatives\(u, v\) must return a Derivatives of six arrays .* got NoneType"):
+        lab.ParametricSurface(lambda u, v: None, ((0, 1), (0, 1))).curvature(0.5, 0.5)  # before: .bu of None
+    with pytest.raises(ValueError, match=r"its b has shape \(1, 2\)"):  # before: IndexError: index 2 is out of bounds
+        lab.ParametricSurface(lambda u, v: Derivatives(*(np.zeros(np.shape(u) + (2,)) for _ in range(6))),
+                              ((0, 1), (0, 1))).curvature(0.5, 0.5)
+    with pytest.raises(ValueError, match=r"unknown colour map \['linear'\]; expected one of 'linear'"):
+        C.colors_for(np.array([1.0]), ["linear"])  # before: TypeError: unhashable type: 'list'
+    u, v, a = sp.symbols("u v a")
+    with pytest.raises(ValueError, match=r"xyz may depend only on the parameters u and v; got the free symbol\(s\) a"):
+        lab.ParametricSurface.from_sympy((u, v, a * u), (u, v), ((0, 1), (0, 1)))  # before: NameError at evaluation
+
+
+def test_unclear_messages_negative_vmax_is_a_usage_error(tmp_path):
+    for args in (["--color-map", "symmetric", "--vmax", "-1"], ["--vmax", "-5"]):
+        run = cli("render", "--surface", "plane", "--depth", "0", *args, "-o", str(tmp_path / "p.vtp"))
+        assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+        assert "curvature-lab render: error:" in run.stderr or "curvature-lab: error:" in run.stderr
+
+
+def test_unclear_messages_geodesics_on_a_zero_size_surface_and_to_a_pole():
+    with pytest.raises(ValueError, match=r"is degenerate: it has zero size \(all its points coincide"):
+        lab.geodesic_between(lab.BezierSurface(np.zeros((4, 4, 3))), (0.1, 0.1), (0.8, 0.7))
+    with pytest.raises(ValueError, match=r"B is a degenerate point \(a pole: b_u x b_v = 0\)"):
+        lab.geodesic_between(surfaces.sphere(), (0.3, 0.3), (0.5, 1.0))

@@ -81,7 +81,7 @@ def test_bad_input_messages():
         cm.h(1.5)
     with pytest.raises(ValueError, match="values contain NaN"):
         cm.f1([np.nan])
-    with pytest.raises(ValueError, match="unknown colour map 'rainbow'; expected one of linear, cut"):
+    with pytest.raises(ValueError, match="unknown colour map 'rainbow'; expected one of 'linear', 'cut'"):
         cm.apply("rainbow", [1.0])
     with pytest.raises(ValueError, match="percentiles must satisfy"):
         cm.percentile([1.0, 2.0], 90, 10)

@@ -142,7 +142,7 @@ def test_errors(nets):
         p[0].set_colors((0, 0, 0), (0, 0, 0), (1, 2, 0), (0, 0, 0))
     with pytest.raises(ValueError, match=r"set_colors: c00 must be an \(r, g, b\) tuple of 3 numbers; got shape \(2,\)"):
         p[0].set_colors((0, 0), (0, 0, 0), (0, 0, 0), (0, 0, 0))
-    with pytest.raises(TypeError, match="set_curvature: c11 must be a number; got str 'x'"):
+    with pytest.raises(TypeError, match="set_curvature: c11 must be a real number; got str 'x'"):
         p[0].set_curvature(1, 2, 3, "x")
     with pytest.raises(IndexError, match="patch index 3 out of range for 3 patches"):
         p[3]

@@ -31,6 +31,7 @@ import math
 import numpy as np
 
 from . import palettes
+from . import validation as _v
 from .validation import as_number
 
 __all__ = [
@@ -77,16 +78,14 @@ DILL_RANGE = (-0.07, 0.03)
 
 
 def _values(x, name="values"):
-    if isinstance(x, (str, bytes)) or x is None:
-        raise TypeError(f"{name} must be an array of numbers; got {type(x).__name__} {x!r}")
-    try:
-        x = np.asarray(x, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be an array of real numbers; got {type(x).__name__} ({exc})") from None
-    if np.any(np.isnan(x)):
+    x = _v.as_array(x, name, finite=False)
+    # the maps make a few temporaries of the values' size (and copy a broadcast view): estimated first
+    _v.check_memory(8.0 * 4 * x.size, f"a colour map of {_v.format_count(x.size)} values")
+    low, high = (x.min(), x.max()) if x.size else (0.0, 0.0)  # NaN and inf show here, without a temporary array
+    if np.isnan(low):
         raise ValueError(f"{name} contain NaN; colour maps need finite numbers (a NaN comes from 0/0 or from the "
                          "square root of a negative number, e.g. √(H² − K) at an umbilic point)")
-    if np.any(np.isinf(x)):
+    if np.isinf(low) or np.isinf(high):
         raise ValueError(f"{name} must be finite for a colour map; got inf (lab.colormaps.colors_for paints "
                          "non-finite values grey)")
     return x
@@ -180,11 +179,13 @@ def f2(x, vmin=None, vmax=None, *, atol=0.0, rtol=1e-9):
     atol, rtol = _number(atol, "atol", minimum=0), _number(rtol, "rtol", minimum=0)
     if hi < lo:
         raise ValueError(f"f2 needs vmin <= vmax; got vmin={lo:g}, vmax={hi:g}")
-    if hi - lo <= max(atol, rtol * max(abs(lo), abs(hi))):
+    # halves throughout: hi - lo and x - lo overflow for values near the float limit (1.7e308 - -1.7e308)
+    half_span = hi / 2 - lo / 2
+    if half_span <= max(atol, rtol * max(abs(lo), abs(hi))) / 2:
         return np.full(np.shape(x), 0.5)
     if s is not None:
-        return np.float64(min(max((s - lo) / (hi - lo), 0.0), 1.0))
-    return np.clip((x - lo) / (hi - lo), 0.0, 1.0)
+        return np.float64(min(max((s / 2 - lo / 2) / half_span, 0.0), 1.0))
+    return np.clip((x / 2 - lo / 2) / half_span, 0.0, 1.0)
 
 
 def f3(x, tol=ZERO_TOL):
@@ -259,7 +260,11 @@ def signed_log(x, scale=None, vmax=None):
     s = float(np.median(a)) if scale is None else as_number(scale, "scale", minimum=0)
     if s <= 0:
         s = M * 1e-3
-    return 0.5 + 0.5 * np.sign(x) * np.log1p(a / s) / np.log1p(M / s)
+    # log1p(a / s) = log(s + a) - log(s) without the overflow of a / s (a near the float limit, s tiny)
+    log_ratio = np.logaddexp(np.log(s), np.log(np.maximum(a, np.finfo(float).tiny))) - np.log(s)
+    log_ratio = np.where(a > 0, log_ratio, 0.0)
+    top = np.logaddexp(np.log(s), np.log(M)) - np.log(s)
+    return np.clip(0.5 + 0.5 * np.sign(x) * log_ratio / top, 0.0, 1.0)
 
 
 def dill(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
@@ -309,7 +314,10 @@ def _dill_band(x, vmin, vmax):
     vmin, vmax = as_number(vmin, "vmin"), as_number(vmax, "vmax")
     if not vmin < vmax:
         raise ValueError(f"dill needs vmin < vmax; got vmin={vmin:g}, vmax={vmax:g}")
-    return np.clip(np.floor(5.0 * (x - vmin) / (vmax - vmin)).astype(int), 0, 4)
+    # halves: x - vmin and vmax - vmin overflow near the float limit; clipped before the cast to int
+    with np.errstate(over="ignore"):  # beyond the range: inf, clipped into the last band
+        t = (x / 2 - vmin / 2) / (vmax / 2 - vmin / 2)
+    return np.floor(5.0 * np.clip(t, 0.0, 0.999999)).astype(int)
 
 
 #: Colour maps by name: each takes values (and keyword options) and returns RGB.
@@ -342,9 +350,28 @@ def normalisation(name):
 
 def apply(name, values, **options):
     """Colours of ``values`` under the colour map called ``name`` (a key of :data:`COLOR_MAPS`)."""
-    if name not in COLOR_MAPS:
-        raise ValueError(f"unknown colour map {name!r}; expected one of {', '.join(COLOR_MAPS)}")
-    return COLOR_MAPS[name](values, **options)
+    name = _v.as_choice(_v.choice_name(name), list(COLOR_MAPS), "colour map")
+    try:
+        return COLOR_MAPS[name](values, **options)
+    except TypeError as exc:
+        if "unexpected keyword argument" not in str(exc):
+            raise
+        raise TypeError(f"colour map {name!r} does not take the option(s) {', '.join(sorted(options))}: it takes "
+                        f"{_options_of(name)}") from None
+
+
+def _options_of(name):
+    """The keyword options the colour map ``name`` takes, as text (for a message)."""
+    import inspect
+
+    func = {"linear": f2, "linear-batlow": f2, "cut": f1, "classification": f3, "classification-vik": f3,
+            "dill": dill, "dill-batlow": dill, "symmetric": symmetric, "symmetric-vik": symmetric,
+            "percentile": percentile, "signed-log": signed_log, "signed-log-vik": signed_log}.get(name)
+    if func is None:
+        return "no documented options"
+    names = [p.name for p in list(inspect.signature(func).parameters.values())[1:] if p.kind == p.KEYWORD_ONLY
+             or p.default is not inspect.Parameter.empty]
+    return ", ".join(names) or "no options"
 
 
 class ColorMap(str, enum.Enum):
@@ -368,10 +395,11 @@ def colors_for(values, color_map, *, tol=ZERO_TOL, out=None, chunk=COLOR_CHUNK, 
     ``chunk`` values at a time into ``out`` (shape ``values.shape + (3,)``,
     allocated if None), so large collections need no full-size temporaries.
     """
-    name = color_map.value if isinstance(color_map, ColorMap) else color_map
-    if name not in COLOR_MAPS:
-        raise ValueError(f"unknown colour map {name!r}; expected one of {', '.join(COLOR_MAPS)}")
-    values = np.asarray(values, dtype=float)
+    name = _v.as_choice(_v.choice_name(color_map), list(COLOR_MAPS), "colour map")
+    values = _v.as_array(values, "values", finite=False)
+    chunk = _v.as_positive_int(chunk, "chunk", minimum=1)
+    # the finite values, the flat copy of a broadcast view and the colours: about five floats per value
+    _v.check_memory(8.0 * 5 * values.size, f"colours for {_v.format_count(values.size)} values")
     if out is None:
         out = np.empty(values.shape + (3,))
     if normalisation(name) == "classification":

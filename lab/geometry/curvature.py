@@ -285,10 +285,8 @@ def classify(k1, k2, tol=1e-8):
     ndarray of int
         Values of :class:`PointClass`.
     """
-    if tol < 0:
-        raise ValueError(f"tol must be >= 0; got {tol}")
-    k1 = np.asarray(k1, dtype=float)
-    k2 = np.asarray(k2, dtype=float)
+    tol = _v.as_number(tol, "tol", minimum=0)
+    k1, k2 = _v.as_broadcast_arrays(k1=k1, k2=k2)
     z1 = np.abs(k1) <= tol
     z2 = np.abs(k2) <= tol
     same_sign = np.sign(k1) == np.sign(k2)

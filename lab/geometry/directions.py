@@ -110,6 +110,11 @@ def eigen(d):
 
 def _eigen(d):
     """:func:`eigen`'s results, then the coordinates-first ``bu``, ``bv`` and ``Q = b_u x b_v`` (computed once)."""
+    with np.errstate(invalid="ignore", divide="ignore"):  # degenerate points: NaN, flagged in ``degenerate``
+        return _eigen_values(d)
+
+
+def _eigen_values(d):
     S11, S12, S21, S22, K, degenerate, (bu, bv, buu, buv, bvv), Q, E, G = _weingarten(d)
     H = 0.5 * (S11 + S22)
     a = 0.5 * (S11 - S22)

@@ -336,7 +336,7 @@ def as_grid(u, v, min_size=64):
         u = np.asarray(u, dtype=float)
         v = np.asarray(v, dtype=float)
         shape = np.broadcast_shapes(u.shape, v.shape)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return None
     if len(shape) != 2 or shape[0] * shape[1] < min_size:
         return None

@@ -13,6 +13,8 @@ import numpy as np
 
 __all__ = [
     "MEMORY_FRACTION",
+    "as_array",
+    "as_broadcast_arrays",
     "as_choice",
     "as_control_net",
     "as_number",
@@ -39,19 +41,47 @@ EXTENT_MIN = 1e-60
 WEIGHT_RATIO_MAX, WEIGHT_RANGE = 1e60, (1e-100, 1e100)
 
 
-def _as_float_array(value, name):
+def _as_float_array(value, name, copy=True):
+    """``value`` as a float array; ``copy=False`` keeps a float64 array (a broadcast view stays a view)."""
     if isinstance(value, (str, bytes)) or value is None:
-        raise TypeError(f"{name} must be an array of numbers; got {type(value).__name__} {value!r}")
+        raise TypeError(f"{name} must be an array of numbers; got {type(value).__name__} {_short(value)}")
     try:
         raw = np.asarray(value)
-        if raw.dtype.kind == "c":
-            raise TypeError(f"{name} must be real numbers; got complex values (the imaginary part would be dropped)")
-        arr = raw.astype(float)
-    except (TypeError, ValueError) as exc:
-        if "complex values" in str(exc):
-            raise
-        raise TypeError(f"{name} must be an array of numbers; got {type(value).__name__} ({exc})") from None
+    except (TypeError, ValueError):  # ragged nesting
+        raise TypeError(f"{name} must be an array of numbers with rows of equal length; got {type(value).__name__} "
+                        f"{_short(value)}") from None
+    if raw.dtype.kind == "c":
+        raise TypeError(f"{name} must be real numbers; got complex values (the imaginary part would be dropped)")
+    if raw.dtype.kind not in "biufO" or (raw.dtype.kind == "O" and raw.size > 10**6):
+        raise TypeError(f"{name} must be an array of numbers; got an array of {raw.dtype} {_short(value)}")
+    if raw.dtype != np.float64 or copy:
+        check_memory(8.0 * raw.size, f"{name} as {format_count(raw.size)} floating-point numbers")
+    try:
+        return raw.astype(float, copy=copy)
+    except OverflowError:
+        raise ValueError(f"{name} must be finite numbers; got an integer beyond the float range") from None
+    except (TypeError, ValueError):  # objects that are not numbers
+        raise TypeError(f"{name} must be an array of numbers; got {type(value).__name__} {_short(value)}") from None
+
+
+def as_array(value, name, *, finite=True):
+    """``value`` as a float array (a 0-d array for a number); text, None and complex values are a ``TypeError``,
+    NaN or inf (with ``finite``) a ``ValueError``, each naming ``name``."""
+    arr = _as_float_array(value, name, copy=False)
+    if finite and arr.size and not (np.isfinite(arr.min()) and np.isfinite(arr.max())):  # no temporary array
+        raise ValueError(f"{name} must contain only finite numbers; got NaN or inf")
     return arr
+
+
+def as_broadcast_arrays(**arrays):
+    """The keyword arrays as float arrays broadcast against each other (views), each checked as :func:`as_array`
+    without the finiteness check; a ``ValueError`` names them and their shapes if they do not broadcast."""
+    found = {name: as_array(value, name, finite=False) for name, value in arrays.items()}
+    try:
+        return np.broadcast_arrays(*found.values())
+    except ValueError:
+        shapes = ", ".join(f"{name} {a.shape}" for name, a in found.items())
+        raise ValueError(f"{' and '.join(found)} must broadcast against each other; got shapes {shapes}") from None
 
 
 def as_control_net(P, name="control net", batch=False, dim=3):
@@ -116,8 +146,8 @@ def as_parameters(u, v, domain, *, atol=1e-12):
     Values within ``atol`` (relative to the domain size) outside the domain are
     clipped onto it, so that rounding in a caller does not raise.
     """
-    uu = _as_float_array(u, "u")
-    vv = _as_float_array(v, "v")
+    uu = _as_float_array(u, "u", copy=False)
+    vv = _as_float_array(v, "v", copy=False)
     try:
         uu, vv = np.broadcast_arrays(uu, vv)
     except ValueError:
@@ -127,7 +157,7 @@ def as_parameters(u, v, domain, *, atol=1e-12):
 
 def as_parameter_vector(t, interval, name, *, atol=1e-12):
     """A 1-D array of parameters in ``interval`` (one side of a grid), checked and clipped as :func:`as_parameters`."""
-    arr = _as_float_array(t, name)
+    arr = _as_float_array(t, name, copy=False)
     if arr.ndim != 1:
         raise ValueError(f"{name} must be a 1-D array of parameters (one side of the grid); got shape {arr.shape}")
     return _in_interval(arr, interval, name, atol)
@@ -164,8 +194,12 @@ def as_number(value, name, *, positive=False, minimum=None, maximum=None):
     if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
         value = value[()]
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number; got {type(value).__name__} {value!r}")
-    x = float(value)
+        raise TypeError(f"{name} must be a real number; got {type(value).__name__} {_short(value)}")
+    try:
+        x = float(value)
+    except OverflowError:  # an int beyond the float range (10**400)
+        raise ValueError(f"{name} must be a finite number; got an integer of about {format_count(abs(value))} "
+                         "(beyond the float range)") from None
     wanted = "a positive number" if positive else "a finite number"
     if minimum is not None and maximum is not None:
         wanted = f"in [{minimum:g}, {maximum:g}]"
@@ -179,14 +213,23 @@ def as_number(value, name, *, positive=False, minimum=None, maximum=None):
     return x
 
 
+def _short(value, n=80):
+    """``repr(value)``, cut to ``n`` characters (an int too large to print, a long text)."""
+    try:
+        text = repr(value)
+    except ValueError:  # an int beyond Python's limit on digits for printing
+        return f"an integer of about {format_count(abs(value))}"
+    return text if len(text) <= n else text[: n - 1] + "…"
+
+
 def as_positive_int(value, name, minimum=0, maximum=None):
     """Return ``value`` as an int >= ``minimum`` (and <= ``maximum``)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} must be an integer; got {type(value).__name__} {value!r}")
+        raise TypeError(f"{name} must be an integer; got {type(value).__name__} {_short(value)}")
     if value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}; got {value}")
+        raise ValueError(f"{name} must be an integer >= {minimum}; got {_short(value)}")
     if maximum is not None and value > maximum:
-        raise ValueError(f"{name} must be an integer from {minimum} to {maximum}; got {value}")
+        raise ValueError(f"{name} must be an integer from {minimum} to {maximum}; got {_short(value)}")
     return int(value)
 
 
@@ -253,8 +296,10 @@ def _as_bytes(value, name="memory limit"):
             value = float(text[: len(text) - len(unit)]) * units[unit]
         except ValueError:
             raise ValueError(f"{name} must be a number of bytes or a size such as '2G'; got {value!r}") from None
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value) or value <= 0:
-        raise ValueError(f"{name} must be a positive number of bytes or a size such as '2G'; got {value!r}")
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not value > 0 or not (
+            value < 2**100 and math.isfinite(value)):  # 2**100 first: a huge int does not convert to a float
+        raise ValueError(f"{name} must be a positive number of bytes (below 2**100) or a size such as '2G'; got "
+                         f"{_short(value)}")
     return int(value)
 
 

@@ -52,7 +52,7 @@ def band_lines(surface, values, levels, *, tol=0.0, resolution=None):
                              f"{values!r}, the mesh has {', '.join(mesh.point_data.keys())}")
         f = np.asarray(mesh.point_data[name], dtype=float)
     else:
-        f = np.asarray(values, dtype=float)
+        f = _v.as_array(values, "values", finite=False)
         if f.shape != (mesh.n_points,):
             raise ValueError(f"values must give one number per point of the mesh ({mesh.n_points}); got shape {f.shape}")
     if isinstance(levels, (str, bytes)) or np.ndim(levels) != 1:

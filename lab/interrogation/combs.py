@@ -45,6 +45,14 @@ class Comb(NamedTuple):
     scale: float
 
 
+def _check_surface(surface):
+    from ..model.surface import Surface
+
+    if not isinstance(surface, Surface):
+        raise TypeError(f"surface must be a lab surface (Bézier, B-spline, parametric; for patches: a surface's "
+                        f"to_bezier_patches() came from it); got {type(surface).__name__}")
+
+
 def _kn(surface, uv, duv):
     d = surface.derivatives(uv[:, 0], uv[:, 1])
     forms = fundamental_forms(d)
@@ -70,7 +78,8 @@ def comb(surface, uv, *, scale=1.0, tangent=None, tol=1e-12):
     tol : float
         Inflection search: bisection down to ``tol`` of the segment.
     """
-    uv = np.asarray(uv, dtype=float)
+    _check_surface(surface)
+    uv = _v.as_array(uv, "uv", finite=False)
     if uv.ndim != 2 or uv.shape[1] != 2 or len(uv) < 2:
         raise ValueError(f"uv must have shape (k, 2) with k >= 2; got {uv.shape}")
     if not np.all(np.isfinite(uv)):
@@ -106,7 +115,8 @@ def comb(surface, uv, *, scale=1.0, tangent=None, tol=1e-12):
 
 def iso_comb(surface, direction, value, *, density=64, scale=1.0):
     """The comb along the iso-parametric curve ``direction = value``: ``"u"`` holds u fixed (v runs), ``"v"`` holds v."""
-    if direction not in ("u", "v"):
+    _check_surface(surface)
+    if not isinstance(direction, str) or direction not in ("u", "v"):
         raise ValueError(f"direction must be 'u' (u fixed, v runs) or 'v' (v fixed, u runs); got {direction!r}")
     density = int(_v.as_number(density, "density", minimum=2))
     (u0, u1), (v0, v1) = surface.domain
@@ -121,6 +131,12 @@ def iso_comb(surface, direction, value, *, density=64, scale=1.0):
     return comb(surface, uv, scale=scale, tangent=tangent)
 
 
+#: Most interior iso-curves per direction of :func:`border_combs` (each is a comb of its own: about 5 ms).
+MAX_COMB_COUNT = 1000
+#: Memory of one tooth of a comb with its temporaries (points, normals, derivatives), in bytes.
+COMB_BYTES_PER_TOOTH = 2048
+
+
 def border_combs(surface, *, density=64, scale=1.0, count=0):
     """Combs along the four borders of the domain and ``count`` interior iso-curves in each direction.
 
@@ -130,7 +146,10 @@ def border_combs(surface, *, density=64, scale=1.0, count=0):
     normal where the curve bends towards it; a reversed face flips N and κn together, so the teeth stay.
     """
     surface, trim = as_surface(surface)
-    count = int(_v.as_number(count, "count", minimum=0))
+    count = int(_v.as_number(count, "count", minimum=0, maximum=MAX_COMB_COUNT))
+    density = int(_v.as_number(density, "density", minimum=2))
+    teeth = 2 * (count + 2) * density
+    _v.check_memory(COMB_BYTES_PER_TOOTH * teeth, f"{2 * (count + 2)} combs of {density} teeth each")
     if trim is not None:
         return _face_combs(surface, trim, density, scale, count)
     (u0, u1), (v0, v1) = surface.domain

@@ -442,7 +442,7 @@ def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None):
     >>> lab.continuity(lab.surfaces.practical()).achieved      # a bicubic B-spline with simple knots is C2
     'G2'
     """
-    samples = _v.as_positive_int(samples, "samples", minimum=2)
+    samples = _v.as_positive_int(samples, "samples", minimum=2, maximum=100_000)
     tol = _tolerances(tol_g0, tol_g1, tol_g2)
     if isinstance(obj, BSplineSurface):
         nets, w, iu, iv = obj.bezier_nets()

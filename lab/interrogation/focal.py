@@ -22,6 +22,7 @@ surfaces and PyVista meshes.
 
 import numpy as np
 
+from ..geometry import validation as _v
 from ..mesh.levels import level_lines
 
 __all__ = ["FOCAL_FUNCTIONS", "focal_function", "focal_points", "focal_sheet", "parabolic_lines"]
@@ -87,7 +88,8 @@ def focal_points(X, N, k1, k2, scale=1.0, function="mean"):
     f : (k,) ndarray
         The function values; the displacement along N is ``scale * f``.
     """
-    f = np.asarray(focal_function(function)(np.asarray(k1, float), np.asarray(k2, float)), dtype=float)
+    f = _v.as_array(focal_function(function)(np.asarray(k1, float), np.asarray(k2, float)),
+                    "the focal function's values", finite=False)
     X = np.asarray(X, dtype=float)
     if f.shape != X.shape[:1]:
         f = np.broadcast_to(f, X.shape[:1])

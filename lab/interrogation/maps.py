@@ -33,7 +33,10 @@ FLAGGED, CLEAR = (0.9, 0.15, 0.1), (0.8, 0.8, 0.8)
 
 
 def _as_pull(pull):
-    p = None if isinstance(pull, (str, bytes)) else np.asarray(pull, dtype=float)
+    try:
+        p = None if isinstance(pull, (str, bytes)) else np.asarray(pull, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        p = None
     if p is None or p.shape != (3,) or not np.all(np.isfinite(p)):
         raise ValueError(f"pull must be a direction (x, y, z) of three finite numbers; got {pull!r}")
     n = float(np.linalg.norm(p))
@@ -47,7 +50,7 @@ def draft_angle(normals, pull):
 
     NaN normals (degenerate points) give NaN; the caller flags them (their ``degenerate`` mask).
     """
-    N = np.asarray(normals, dtype=float)
+    N = _v.as_array(normals, "normals", finite=False)
     if N.ndim < 1 or N.shape[-1] != 3:
         raise ValueError(f"normals must have shape (..., 3); got {N.shape}")
     p = _as_pull(pull)
@@ -56,7 +59,8 @@ def draft_angle(normals, pull):
 
 def min_radius(k1, k2):
     r""":math:`1/\max(|\kappa_1|, |\kappa_2|)`: the smallest radius of curvature (``inf`` at flat points)."""
-    m = np.maximum(np.abs(np.asarray(k1, dtype=float)), np.abs(np.asarray(k2, dtype=float)))
+    k1, k2 = _v.as_broadcast_arrays(k1=k1, k2=k2)
+    m = np.maximum(np.abs(k1), np.abs(k2))
     with np.errstate(divide="ignore"):
         return 1.0 / m
 
@@ -64,7 +68,8 @@ def min_radius(k1, k2):
 def below_radius(k1, k2, r):
     """True where the smallest radius of curvature is below ``r`` (i.e. ``max(|k1|, |k2|) > 1/r``)."""
     r = _v.as_number(r, "r", positive=True)
-    m = np.maximum(np.abs(np.asarray(k1, dtype=float)), np.abs(np.asarray(k2, dtype=float)))
+    k1, k2 = _v.as_broadcast_arrays(k1=k1, k2=k2)
+    m = np.maximum(np.abs(k1), np.abs(k2))
     return m * r > 1.0
 
 

@@ -369,7 +369,7 @@ def parabolic_lines(surface, *, tol=None, resolution=None):
     mesh = as_curvature_mesh(surface, resolution)
     X = np.asarray(mesh.points, dtype=float)
     if tol is None:
-        tol = K_ZERO_RTOL / max(_diagonal(X), 1e-300) ** 2
+        tol = K_ZERO_RTOL / max(_diagonal(X), 1e-150) ** 2  # 1e-300**2 would underflow to 0
     else:
         tol = _v.as_number(tol, "tol", minimum=0)
     lines = _models.joined(_focal.parabolic_lines(X, _triangles(mesh), mesh.point_data["K"], tol), _models.join_tol(mesh))

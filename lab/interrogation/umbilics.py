@@ -152,7 +152,7 @@ def umbilics(surface, *, n=64, rtol=UMBILIC_RTOL):
 
     if not isinstance(surface, Surface):
         raise TypeError(f"surface must be a lab.Surface; got {type(surface).__name__}")
-    n = _v.as_positive_int(n, "n", minimum=4)
+    n = _v.as_positive_int(n, "n", minimum=4, maximum=100_000)
     (u0, u1), (v0, v1) = surface.domain
     su, sv = _spans(surface)
     uu = np.unique(np.concatenate([np.linspace(a, b, n + 1) for a, b in su]))

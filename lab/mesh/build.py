@@ -155,13 +155,15 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_s
         mesh.point_data[k] = v
     if "N" in mesh.point_data:
         N = np.asarray(mesh.point_data["N"])
-        N = N / np.linalg.norm(N, axis=1, keepdims=True)
+        with np.errstate(invalid="ignore", divide="ignore"):  # degenerate points: filled from VTK's normals below
+            N = N / np.linalg.norm(N, axis=1, keepdims=True)
         missing = ~np.all(np.isfinite(N), axis=1)
         if np.any(missing):
             normals = mesh.compute_normals(point_normals=True, cell_normals=False, auto_orient_normals=False,
                                            consistent_normals=False, split_vertices=False)
             fill = np.asarray(normals.point_data["Normals"][missing], dtype=float)
-            N[missing] = fill / np.linalg.norm(fill, axis=1, keepdims=True)  # VTK's normals are float32
+            with np.errstate(invalid="ignore", divide="ignore"):  # a zero-size surface: no normal at all (NaN)
+                N[missing] = fill / np.linalg.norm(fill, axis=1, keepdims=True)  # VTK's normals are float32
         mesh.point_data["N"] = N
     return mesh
 

@@ -8,13 +8,16 @@ views with the practical's per-patch interface (``degree``,
 ``colors``), which write into the shared arrays.
 """
 
+import math
+import warnings
+
 import numpy as np
 
 from ..geometry import bezier, colormaps
 from ..geometry import curvature as _curv
 from ..geometry import validation as _v
 from ..geometry.colormaps import ColorMap, colors_for
-from ..geometry.curvature import CurvatureMode, curvature_values, zero_tolerance
+from ..geometry.curvature import CurvatureMode, DegeneratePointWarning, curvature_values, zero_tolerance
 from ..geometry.derivatives import Derivatives, from_homogeneous
 from ..geometry.grids import NO_SEAMS, Seams
 from ..i18n import _
@@ -33,6 +36,9 @@ CORNER_V = np.array([[0.0, 1.0], [0.0, 1.0]])
 PATCH_CHUNK = 512
 #: Levels of subdivision per chunk in refine: more levels are done in stages of at most this many.
 LEVELS_PER_CHUNK = 2
+#: Largest depth refine() takes at all (its estimate of 4**num patches is then refused anyway; 4**(10**80) would
+#: take forever to compute).
+MAX_REFINE = 10**6
 #: Bytes per patch of the stored corner curvature (4 floats) and colours (12 floats).
 PATCH_RESULT_BYTES = 16 * 8
 
@@ -132,11 +138,12 @@ class BezierPatch:
         """Store the curvature at the corners; ``c01`` is the value at ``u = 0, v = 1``."""
         values = []
         for name, c in (("c00", c00), ("c01", c01), ("c10", c10), ("c11", c11)):
-            try:
-                value = float(c)
-            except (TypeError, ValueError):
-                raise TypeError(f"set_curvature: {name} must be a number; got {type(c).__name__} {c!r}") from None
-            values.append(value)
+            if isinstance(c, (float, np.floating)) and math.isnan(c):
+                warnings.warn(f"set_curvature: {name} is NaN (no curvature, as at a degenerate point); the corner "
+                              "is painted grey", DegeneratePointWarning, stacklevel=2)
+                values.append(math.nan)
+                continue
+            values.append(_v.as_number(c, f"set_curvature: {name}"))
         self._owner.curvature[self._index] = np.reshape(values, (2, 2))
 
     def set_colors(self, c00, c01, c10, c11):
@@ -168,6 +175,26 @@ class BezierPatch:
 
     def __repr__(self):
         return "<BezierPatch {}>".format(_("{index} of degree {degree}").format(index=self._index, degree=self.degree))
+
+
+def _as_seams(seams):
+    """``seams`` as :class:`lab.grids.Seams`: ``(periodic, collapsed)`` with ``periodic`` two booleans (u, v) and
+    ``collapsed`` two pairs of booleans (the edges u_min, u_max and v_min, v_max)."""
+    wanted = "Seams((periodic_u, periodic_v), ((u_min, u_max), (v_min, v_max))) of booleans"
+
+    def flags(x, shape):
+        arr = np.asarray(x, dtype=object) if not isinstance(x, (str, bytes)) else None
+        if arr is None or arr.shape != shape or not all(isinstance(b, (bool, np.bool_)) for b in arr.flat):
+            raise TypeError(f"seams must be {wanted}; got {seams!r}")
+        return tuple(map(bool, arr.flat))
+
+    if isinstance(seams, Seams) or (isinstance(seams, (tuple, list)) and len(seams) in (1, 2)):
+        parts = tuple(seams)
+    else:
+        raise TypeError(f"seams must be {wanted}; got {seams!r}")
+    periodic = flags(parts[0], (2,))
+    collapsed = flags(parts[1], (2, 2)) if len(parts) == 2 else (False,) * 4
+    return Seams(periodic, (collapsed[:2], collapsed[2:]))
 
 
 class BezierPatches:
@@ -213,7 +240,7 @@ class BezierPatches:
         self._P = P
         self._w = _v.as_weights(weights, P.shape[:3])
         if grid_shape is not None:
-            if isinstance(grid_shape, (str, bytes)) or np.ndim(grid_shape) != 1:
+            if not isinstance(grid_shape, (tuple, list, np.ndarray)) or np.asarray(grid_shape, dtype=object).ndim != 1:
                 raise TypeError(f"grid_shape must be (rows, columns), two integers; got {grid_shape!r}")
             grid_shape = tuple(_v.as_positive_int(x, "grid_shape entry", minimum=1) for x in grid_shape)
             if len(grid_shape) != 2 or grid_shape[0] * grid_shape[1] != len(P):
@@ -222,7 +249,7 @@ class BezierPatches:
         self._grid = grid_shape
         if seams is not None and grid_shape is None:
             raise ValueError("seams describe the edges of a grid of patches: give grid_shape too")
-        self._seams = NO_SEAMS if seams is None else Seams(*seams)
+        self._seams = NO_SEAMS if seams is None else _as_seams(seams)
         self._reset()
 
     @property
@@ -290,7 +317,7 @@ class BezierPatches:
         into one new array (:func:`_refine`), so the time and the memory per
         patch do not grow with the number of patches.
         """
-        num = _v.as_positive_int(num, "num", minimum=0)
+        num = _v.as_positive_int(num, "num", minimum=0, maximum=MAX_REFINE)
         n_final = len(self) * 4**num
         _v.check_memory(self.refine_bytes(num), f"refine({num}) of {len(self)} patches ({_v.format_count(n_final)} patches)",
                         memory_limit)
@@ -303,7 +330,7 @@ class BezierPatches:
         """Estimated peak memory of :meth:`refine` ``(num)``, in bytes: the new nets and the cleared curvature
         and colours of the result, the old nets, the stage before the last (:func:`_refine`) and the
         temporaries of one chunk."""
-        num = _v.as_positive_int(num, "num", minimum=0)
+        num = _v.as_positive_int(num, "num", minimum=0, maximum=MAX_REFINE)
         per_patch = self._P[0].nbytes + (0 if self._w is None else self._w[0].nbytes)
         n_final = len(self) * 4**num
         stage = n_final // 4**LEVELS_PER_CHUNK * per_patch if num > LEVELS_PER_CHUNK else 0

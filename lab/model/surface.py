@@ -385,7 +385,7 @@ class BSplineSurface(_SplineSurface):
         axis = 0 if direction == "u" else 1
         knots = self.knots_u if axis == 0 else self.knots_v
         Pw = bezier.homogeneous(self.control_points, self.weights)
-        Pw, knots = bspline.insert_knot(Pw, knots, self.degree[axis], float(t), times=times, axis=axis)
+        Pw, knots = bspline.insert_knot(Pw, knots, self.degree[axis], _v.as_number(t, "t"), times=times, axis=axis)
         P, w = (Pw, None) if self.weights is None else bezier.dehomogenize(Pw)
         ku, kv = (knots, self.knots_v) if axis == 0 else (self.knots_u, knots)
         return BSplineSurface(P, ku, kv, *self.degree, weights=w)
@@ -411,6 +411,32 @@ class BSplineSurface(_SplineSurface):
         nu, nv = self.control_points.shape[:2]
         return "BSplineSurface({})".format(_("{kind}, {nu}x{nv} control points, degree {degree}").format(
             kind=kind, nu=nu, nv=nv, degree=self.degree))
+
+
+def _checked_derivatives(d, shape, name):
+    """What a user's ``derivatives(u, v)`` returned, checked: six float arrays of shape ``shape + (3,)``."""
+    wanted = f"a Derivatives of six arrays of shape {shape + (3,)} (b, bu, bv, buu, buv, bvv)"
+    if not isinstance(d, tuple) or len(d) != 6:
+        raise TypeError(f"{name}: derivatives(u, v) must return {wanted}; got {type(d).__name__} "
+                        f"{_v._short(d, 60)}")
+    fields = []
+    for field_name, x in zip(Derivatives._fields, d):
+        try:
+            arr = np.asarray(x)
+            ok = arr.dtype.kind in "biuf"
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise TypeError(f"{name}: derivatives(u, v) must return {wanted}; its {field_name} is "
+                            f"{type(x).__name__} {_v._short(x, 60)}")
+        if arr.shape != shape + (3,):
+            try:
+                arr = np.broadcast_to(arr, shape + (3,))
+            except ValueError:
+                raise ValueError(f"{name}: derivatives(u, v) must return {wanted}; its {field_name} has shape "
+                                 f"{arr.shape}") from None
+        fields.append(arr.astype(float, copy=False))
+    return Derivatives(*fields)
 
 
 class ParametricSurface(Surface):
@@ -462,34 +488,53 @@ class ParametricSurface(Surface):
         if len(xyz) != 3:
             raise ValueError(f"xyz must hold three coordinate expressions; got {len(xyz)}")
         u, v = uv
-        X = sp.Matrix([sp.sympify(c) for c in xyz])
+        try:
+            X = sp.Matrix([sp.sympify(c, strict=True) for c in xyz])
+        except (sp.SympifyError, TypeError, ValueError):
+            raise TypeError(f"xyz must hold three sympy expressions (or numbers); got {xyz!r}") from None
+        free = sorted(map(str, X.free_symbols - {u, v}))
+        if free:
+            raise ValueError(f"xyz may depend only on the parameters {u} and {v}; got the free symbol(s) "
+                             f"{', '.join(free)}: substitute a number for each (expr.subs({free[0]}, 1))")
+        undefined = sorted(map(str, X.atoms(sp.core.function.AppliedUndef)))
+        if undefined:
+            raise ValueError(f"xyz must be explicit expressions in {u} and {v}; got the undefined function(s) "
+                             f"{', '.join(undefined)}")
         exprs = [X, X.diff(u), X.diff(v), X.diff(u, 2), X.diff(u).diff(v), X.diff(v, 2)]
         funcs = [sp.lambdify((u, v), list(e), modules="numpy") for e in exprs]
 
         def derivs(uu, vv):
             fields = []
-            for f in funcs:
-                comps = [np.broadcast_to(np.asarray(c, dtype=float), uu.shape) for c in f(uu, vv)]
-                fields.append(np.stack(comps, axis=-1))
+            with np.errstate(all="ignore"):  # poles and overflow become inf/NaN, reported by _derivatives
+                for f in funcs:
+                    comps = [np.broadcast_to(np.asarray(c, dtype=float), uu.shape) for c in f(uu, vv)]
+                    fields.append(np.stack(comps, axis=-1))
             return Derivatives(*fields)
 
-        dom = tuple(tuple(float(sp.N(x)) for x in pair) for pair in domain)
+        try:
+            dom = tuple(tuple(float(sp.N(x)) for x in pair) for pair in domain)
+        except (TypeError, ValueError, AttributeError, sp.SympifyError):
+            raise TypeError(f"domain must be ((u_min, u_max), (v_min, v_max)), numbers or sympy numbers such as "
+                            f"pi; got {domain!r}") from None
         surface = cls(derivs, dom, name=name)
         surface.expressions = X
         surface.parameters = (u, v)
         return surface
 
     def _derivatives(self, u, v):
-        d = self._func(u, v)
-        finite = np.all(np.isfinite(d.bu) & np.isfinite(d.bv), axis=-1)
-        if not np.all(finite):
-            k = np.unravel_index(np.flatnonzero(~finite)[0], finite.shape)
-            u0, v0 = np.broadcast_to(u, finite.shape)[k], np.broadcast_to(v, finite.shape)[k]
+        d = _checked_derivatives(self._func(u, v), np.shape(u), self.name)
+        with np.errstate(invalid="ignore"):  # NaN compares False: not usable
+            usable = np.all(np.abs(np.concatenate(d, axis=-1)) <= _v.COORDINATE_MAX, axis=-1)
+        if not np.all(usable):
+            k = np.unravel_index(np.flatnonzero(~usable)[0], usable.shape)
+            u0, v0 = np.broadcast_to(u, usable.shape)[k], np.broadcast_to(v, usable.shape)[k]
             warnings.warn(
-                f"{self.name}: the derivatives are not finite at {int(np.count_nonzero(~finite))} of {finite.size} "
+                f"{self.name}: the derivatives are not finite at {int(np.count_nonzero(~usable))} of {usable.size} "
                 f"point(s), e.g. (u, v) = ({u0:.6g}, {v0:.6g}): the function is not defined or not differentiable "
-                "there; curvature there is NaN and marked in the 'degenerate' mask", _curv.DegeneratePointWarning,
+                f"there (or its derivatives exceed {_v.COORDINATE_MAX:g}, where the fundamental forms overflow); "
+                "curvature there is NaN and marked in the 'degenerate' mask", _curv.DegeneratePointWarning,
                 stacklevel=3)
+            d = d.map(lambda x: np.where(usable[..., None], x, np.nan))  # inf would make numpy warn later
         return d
 
     def _defining(self):
@@ -497,6 +542,26 @@ class ParametricSurface(Surface):
 
     def __repr__(self):
         return f"ParametricSurface({self.name}, domain={self.domain})"
+
+
+def _map_values(func, t, name):
+    """``func(t)`` of a reparametrisation checked: three float arrays (s, ds, d2s) of the shape of ``t``, finite."""
+    t = np.asarray(t, dtype=float)
+    out = func(t)
+    wanted = f"(s, ds, d2s), three arrays of shape {t.shape}"
+    if not isinstance(out, (tuple, list)) or len(out) != 3:
+        raise TypeError(f"{name}(t) must return {wanted}; got {type(out).__name__} {_v._short(out, 60)}")
+    values = []
+    for part, x in zip(("s", "ds", "d2s"), out):
+        arr = _v.as_array(x, f"{name}(t)'s {part}", finite=False)
+        try:
+            arr = np.broadcast_to(arr, t.shape)
+        except ValueError:
+            raise ValueError(f"{name}(t) must return {wanted}; its {part} has shape {arr.shape}") from None
+        values.append(arr)
+    if t.size and not np.all(np.isfinite(values[0])):
+        raise ValueError(f"{name}(t) must return finite parameters s; got NaN or inf")
+    return tuple(values)
 
 
 class ReparametrizedSurface(Surface):
@@ -545,11 +610,11 @@ class ReparametrizedSurface(Surface):
                            D.bvv * dv * dv + D.bv * ddv)
 
     def _point_derivatives(self, u, v, work=None):
-        su, sv = self.maps[0](u), self.maps[1](v)
+        su, sv = _map_values(self.maps[0], u, "map_u"), _map_values(self.maps[1], v, "map_v")
         return self._chain(self.base._point_derivatives(su[0], sv[0], work), su, sv)
 
     def _grid_blocks(self, u, v):
-        su, sv = self.maps[0](u), self.maps[1](v)
+        su, sv = _map_values(self.maps[0], u, "map_u"), _map_values(self.maps[1], v, "map_v")
         for rows, cols, D in self.base._grid_blocks(su[0], sv[0]):
             yield rows, cols, self._chain(D, tuple(x[rows][:, None] for x in su), tuple(x[cols][None, :] for x in sv))
 

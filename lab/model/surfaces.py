@@ -7,9 +7,11 @@ Every factory returns a surface object with the common interface of
 (catenoid, sine wave) are analytic :class:`lab.ParametricSurface` objects.
 """
 
+import math
+
 import numpy as np
 
-from ..geometry.validation import as_number
+from ..geometry.validation import COORDINATE_MAX, as_array, as_number, check_memory, format_count
 from .surface import BezierSurface, BSplineSurface, ParametricSurface
 
 __all__ = [
@@ -42,6 +44,15 @@ _CIRCLE_KNOTS = np.array([0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1])
 
 def practical_height(x, y):
     """The height of the practical's example: f(x, y) = x²/5 + xy/4 + 10/(1 + x² + y²) + y/2."""
+    x, y = as_array(x, "x", finite=False), as_array(y, "y", finite=False)
+    try:
+        shape = np.broadcast_shapes(x.shape, y.shape)
+    except ValueError:
+        raise ValueError(f"x and y must broadcast against each other; got shapes {x.shape} and {y.shape}") from None
+    check_memory(8.0 * 4 * math.prod(shape), f"practical_height at {format_count(math.prod(shape))} points")
+    x, y = as_array(x, "x"), as_array(y, "y")
+    if not shape:
+        x, y = float(x), float(y)
     return x**2 / 5 + x * y / 4 + 10 / (1 + x**2 + y**2) + y / 2
 
 
@@ -125,7 +136,7 @@ def ellipsoid(a=3.0, b=2.0, c=1.0):
     normal points outwards as on the sphere (H < 0 with the practical's
     convention).
     """
-    axes = np.array([a, b, c], dtype=float)
+    axes = np.array([as_number(x, name, positive=True) for x, name in ((a, "a"), (b, "b"), (c, "c"))])
     if not (axes.shape == (3,) and np.all(np.isfinite(axes)) and np.all(axes > 0)):
         raise ValueError(f"semi-axes a, b, c must be positive numbers; got a={a}, b={b}, c={c}")
     s = sphere(1.0)
@@ -263,8 +274,12 @@ def sine_wave(amplitude=0.5, frequency=1.0, radius=2 * np.pi):
     import sympy as sp
 
     rho, phi = sp.symbols("rho phi", real=True)
-    A, w = sp.nsimplify(as_number(amplitude, "amplitude")), sp.nsimplify(as_number(frequency, "frequency"))
+    big = COORDINATE_MAX  # beyond it the fundamental forms overflow
+    A = sp.nsimplify(as_number(amplitude, "amplitude", minimum=-big, maximum=big))
+    w = sp.nsimplify(as_number(frequency, "frequency", minimum=-big, maximum=big))
     radius = as_number(radius, "radius", positive=True)
+    if radius > big:
+        raise ValueError(f"radius must be at most {big:g} (the fundamental forms overflow beyond); got {radius:g}")
     xyz = (rho * sp.cos(phi), rho * sp.sin(phi), A * sp.cos(w * rho))
     s = ParametricSurface.from_sympy(xyz, (rho, phi), ((0, float(radius)), (0, 2 * sp.pi)), name="sine wave")
     s.periodic = (False, True)

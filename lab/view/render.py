@@ -38,6 +38,7 @@ import numpy as np
 import pyvista as pv
 
 from ..geometry import validation as _v
+from ..i18n import _
 from ..interrogation.faces import is_model
 from ..interrogation.reflection import VIEW_DIRECTION
 from ..model.patches import BezierPatches
@@ -439,6 +440,11 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
     """
     if shading not in ("smooth", "flat"):
         raise ValueError(f"shading must be 'smooth' or 'flat'; got {shading!r}")
+    if (curvature is None) != (color_map is None):  # one without the other would colour nothing
+        given, missing = ("color_map", "curvature") if curvature is None else ("curvature", "color_map")
+        raise ValueError(_("{given} needs {missing}: a colour map colours a curvature measure; give both "
+                           "(e.g. curvature='gaussian', color_map='linear') or neither").format(
+            given=given, missing=missing))
     if lines is not None and not isinstance(lines, pv.PolyData):
         raise TypeError(f"lines must be a pyvista.PolyData of polylines (e.g. lab.reflection_lines); "
                         f"got {type(lines).__name__}")

@@ -18,7 +18,7 @@ from tqdm import tqdm
 from ..i18n import _
 from ..model import surfaces
 
-__all__ = ["MODELS", "OUTPUT_SUFFIXES", "RANGED_MAPS", "UsageError", "run"]
+__all__ = ["MAX_PATCHES", "MODELS", "OUTPUT_SUFFIXES", "RANGED_MAPS", "UsageError", "run"]
 
 
 class UsageError(ValueError):
@@ -83,6 +83,7 @@ def run(args):
                 _refuse(str(exc))
         else:
             surface = surfaces.REGISTRY[args.surface]()
+        _check_size(args, surface)
         bar.update(1)
         if args.file or args.model:
             patches = None
@@ -199,6 +200,41 @@ RANGED_MAPS = {"linear": ("vmin", "vmax"), "dill": ("vmin", "vmax"), "symmetric"
                "linear-batlow": ("vmin", "vmax"), "dill-batlow": ("vmin", "vmax"), "symmetric-vik": (None, "vmax")}
 
 
+#: Default of ``--max-patches``: the patches (or grid cells) a render may build, about 20 s of work (the practical's
+#: surface at depth 7 has 802 816 patches; at depth 8, 3 211 264).
+MAX_PATCHES = 1_000_000
+#: Patches (or grid cells) per second, for the time estimate (measured with the practical's surface, depth 5).
+PATCHES_PER_SECOND = 50_000
+
+
+def estimate(args, surface):
+    """What a render will build: ``(count, kind)``, the number of Bézier patches (or grid cells) at ``args.depth``."""
+    if args.file or args.model:
+        return len(surface.faces) * (8 * 2**args.depth * args.resolution) ** 2, _("grid cells")
+    if hasattr(surface, "to_bezier_patches"):
+        return len(surface.to_bezier_patches()) * 4**args.depth, _("patches")
+    return (16 * 2**args.depth * args.resolution) ** 2, _("grid cells")
+
+
+def _check_size(args, surface):
+    """Refuse, before the work, a render larger than ``--max-patches``: with the estimate and the way forward."""
+    from ..geometry.validation import format_count
+
+    count, kind = estimate(args, surface)
+    limit = getattr(args, "max_patches", MAX_PATCHES)
+    if count > limit:
+        smaller = args.depth
+        while smaller > 0 and count / 4 ** (args.depth - smaller) > limit:
+            smaller -= 1
+        _refuse(_("--depth {depth} would build {count} {kind} (about {seconds} s), more than "
+                  "--max-patches {limit}: use --depth {smaller} or less, or raise --max-patches if you can wait").format(
+            depth=args.depth, count=format_count(count), kind=kind, seconds=format_count(round(count / PATCHES_PER_SECOND)),
+            limit=limit, smaller=smaller))
+    if count > 10 * PATCHES_PER_SECOND and not args.quiet:
+        print(_("note: {count} {kind}, about {seconds} s (Ctrl-C stops)").format(
+            count=format_count(count), kind=kind, seconds=round(count / PATCHES_PER_SECOND)), file=sys.stderr)
+
+
 def _map_options(args):
     """--vmin / --vmax as the colour map's options (only for the maps that take a range)."""
     if args.vmin is None and args.vmax is None:
@@ -208,6 +244,11 @@ def _map_options(args):
     low, high = RANGED_MAPS[args.color_map]
     if args.vmin is not None and low is None:
         _refuse("the symmetric map is centred at 0: give --vmax only (it spans -vmax … vmax)")
+    for option, value in (("--vmin", args.vmin), ("--vmax", args.vmax)):
+        if value is not None and not np.isfinite(value):
+            _refuse(_("{option} must be a finite number; got {value}").format(option=option, value=value))
+    if low is None and args.vmax is not None and not args.vmax > 0:
+        _refuse(_("the symmetric map spans -vmax … vmax: --vmax must be positive; got {vmax:g}").format(vmax=args.vmax))
     if args.vmin is not None and args.vmax is not None and not args.vmin < args.vmax:
         _refuse(f"--vmin must be smaller than --vmax; got {args.vmin:g} and {args.vmax:g}")
     if args.color_map in ("dill", "dill-batlow") and (args.vmin is None or args.vmax is None):

@@ -94,7 +94,7 @@ def polar_isodistance(fan, distances, *, samples_per_angle=8):
     else:  # a list of paths: cyclic when its angles are equally spaced around the circle
         a = np.sort(np.mod([p.angle for p in paths], 2 * np.pi))
         full_circle = len(a) >= 2 and np.allclose(np.diff(np.append(a, a[0] + 2 * np.pi)), 2 * np.pi / len(a))
-    dist = np.atleast_1d(np.asarray(distances, dtype=float))
+    dist = np.atleast_1d(_v.as_array(distances, "distances", finite=False))
     if dist.ndim != 1 or not np.all(np.isfinite(dist)) or np.any(dist <= 0):
         raise ValueError(f"distances must be positive finite numbers; got {distances}")
     per = _v.as_positive_int(samples_per_angle, "samples_per_angle", minimum=1)

@@ -21,7 +21,7 @@ from ...geometry.curvature import DegeneratePointWarning
 from ...geometry.directions import eigen
 from ...i18n import _
 from .integrator import _integrate_fan, _solve_one
-from .paths import PATH_BYTES, PATH_BYTES_PER_SAMPLE, _make_paths
+from .paths import PATH_BYTES, PATH_BYTES_PER_SAMPLE, _check_length_cap, _make_paths
 from .problem import (
     _DEGENERATE,
     _UMBILIC_STOP,
@@ -97,6 +97,7 @@ def _run(surface, starts, which, length, backward, rtol, atol, n_samples):
     surface = _check_surface(surface)
     key = _which(which)
     L = _check_length(length)
+    _check_length_cap(surface, L, "line of curvature")
     rtol, atol = _check_tolerances(rtol, atol)
     n_samples = _v.as_positive_int(n_samples, "n_samples", minimum=2)
     starts = np.array([_check_point(surface, s, "start point") for s in starts], dtype=float).reshape(-1, 2)

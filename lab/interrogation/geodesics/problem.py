@@ -468,13 +468,22 @@ def _fmt(uv):
 def _check_surface(surface):
     if not isinstance(surface, Surface):
         raise TypeError(f"surface must be a lab.Surface (Bézier, B-spline or parametric); got {type(surface).__name__}")
+    (u0, u1), (v0, v1) = surface.domain
+    grid = np.linspace(0.0, 1.0, 5)
+    with np.errstate(all="ignore"):
+        points = np.asarray(surface.evaluate(u0 + (u1 - u0) * grid[:, None], v0 + (v1 - v0) * grid[None, :]))
+    extent = float(np.max(np.ptp(points.reshape(-1, points.shape[-1]), axis=0))) if np.isfinite(points).all() else None
+    if extent is not None and extent == 0.0:
+        raise ValueError(f"surface {surface!r} is degenerate: it has zero size (all its points coincide at "
+                         f"{tuple(float(x) for x in points.reshape(-1, points.shape[-1])[0])}), so it has no "
+                         "tangent plane and no geodesics")
     return surface
 
 
 def _check_point(surface, uv, name):
     try:
         u, v = (float(x) for x in uv)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"{name} must be a pair of parameters (u, v); got {uv!r}") from None
     (u0, u1), (v0, v1) = surface.domain
     slack_u, slack_v = 1e-12 * max(1.0, u1 - u0), 1e-12 * max(1.0, v1 - v0)

@@ -3,6 +3,7 @@
 import numpy as np
 
 from ...geometry import validation as _v
+from ...geometry.curvature import unit_normal
 from .integrator import _integrate_fan
 from .paths import _make_paths
 from .polyhedral import polyhedral_mesh
@@ -101,9 +102,14 @@ def geodesic_between(surface, uv_a, uv_b, *, tol=1e-9, n_candidates=4, rtol=RTOL
     if found is None:
         found = shooter.solve(_fallback_guesses(shooter, d, xa, xb, chord, n_candidates))
     if found is None:
+        why = "they leave the domain or do not converge"
+        db = surface.derivatives(np.array([b[0]]), np.array([b[1]]))
+        if unit_normal(db.bu, db.bv)[1][0]:
+            why = ("B is a degenerate point (a pole: b_u x b_v = 0), where the geodesic equations in (u, v) are "
+                   "singular and every geodesic towards it reaches the edge of the domain; aim at a point near it")
         raise ValueError(
             f"no geodesic from A = {a} to B = {b} found by shooting from the polyhedral shortest path "
-            f"and {n_candidates} further initial guesses (they leave the domain or do not converge)"
+            f"and {n_candidates} further initial guesses ({why})"
         )
     alpha, state, end, stop = found
     origin = (float(a[0]), float(a[1]))

@@ -46,7 +46,7 @@ def _as_loop(loop, name, domain, tol):
             raise TypeError(f"{expected}; got {type(loop).__name__}")
         try:
             P = np.array(loop, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise TypeError(f"{expected}; got {type(loop).__name__}") from None
         if P.ndim != 2 or P.shape[1] != 2:
             raise ValueError(f"{expected}; got shape {P.shape}")
@@ -113,8 +113,7 @@ def validate_loops(outer, holes, domain, tol=None):
     """
     (u0, u1), (v0, v1) = domain
     scale = _domain_scale(domain)
-    if tol is None:
-        tol = 1e-4 * scale
+    tol = 1e-4 * scale if tol is None else _v.as_number(tol, "tol", positive=True)
     if outer is None:
         outer = rectangle((u0, v0), (u1, v1))
     if holes is None or isinstance(holes, BSplineLoop) or (isinstance(holes, np.ndarray) and holes.ndim != 3):
