@@ -173,3 +173,33 @@ def test_hint_boxes_wrap_at_word_boundaries():
 
     box = check.principal_directions(principal_directions)._repr_html_()
     assert "word-break:normal" in box and "overflow-wrap:break-word" in box and "white-space:pre-wrap" in box
+
+
+# -- the explorers on a model: controls where they apply, a legend for the stripes ----------------------------------
+
+
+def test_reflection_explorer_shows_only_the_controls_its_kind_uses(german):
+    from lab.view.explorers.interrogation import ReflectionExplorer
+
+    r = ReflectionExplorer(surfaces.hood(), resolution=16, live=False)
+    shown = {"stripes": {"orientation", "stripe_legend"}, "lines": {"spacing", "azimuth", "elevation"},
+             "isophotes": {"azimuth", "elevation"}}
+    for kind, expected in shown.items():
+        r.kind.value = kind
+        visible = {n for n in ("orientation", "stripe_legend", "spacing", "azimuth", "elevation")
+                   if getattr(r, n).layout.display != "none"}
+        assert visible == expected, kind
+    legend = r.stripe_legend.value
+    for wall in ("Wand −x", "Wand +y", "Boden (−z)", "Decke (+z)"):  # one swatch per colour the box draws
+        assert wall in legend
+    assert legend.count("background:#") == 6
+
+
+def test_pull_and_r_appear_only_with_their_map():
+    from lab.view.explorers import CurvatureExplorer
+
+    ex = CurvatureExplorer(surfaces.hood(), live=False, depth=1)
+    t = ex.tools
+    for value, pull, radius in (("curvature", "none", "none"), ("draft", None, "none"), ("radius", "none", None)):
+        t.map.value = value
+        assert (t.pull.layout.display, t.radius.layout.display) == (pull, radius), value

@@ -455,7 +455,7 @@ def test_edges_by_continuity_on_a_real_part():
     """The hammer's 104 shared face edges, one polyline each, in the colour of what lab.continuity says it achieves."""
     from pathlib import Path
 
-    from lab.interrogation.continuity import LEVELS
+    from lab.interrogation.continuity import LEVELS, level_name
     from lab.view.explorers.edges import EDGE_COLORS, edge_lines
 
     if not Path("/usr/share/opencascade/data/occ/hammer.brep").exists() and not __import__("os").environ.get(
@@ -476,7 +476,7 @@ def test_edges_by_continuity_on_a_real_part():
         assert np.all(rgb[edge == i] == want) and tuple(rep.edges[i].faces) == tuple(model.edges[i].faces)
         assert np.all(np.asarray(lines.cell_data["level"])[edge == i] == LEVELS.index(found.achieved))
     counts = expected.counts()
-    assert all(f"{level}: {counts[level]}" in e.edge_legend.value for level in LEVELS)
+    assert all(f"{level_name(level)}: {counts[level]}" in e.edge_legend.value for level in LEVELS)
     assert e.edges.actor.GetVisibility()
     e.close()
 

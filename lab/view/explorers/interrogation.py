@@ -21,7 +21,7 @@ from ...interrogation.meshes import (
     reflection_lines,
     stripe_mapping,
 )
-from ...interrogation.reflection import VIEW_DIRECTION
+from ...interrogation.reflection import DEFAULT_COLORS, VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
@@ -117,6 +117,22 @@ class FocalExplorer(Explorer):
         self.refresh()
 
 
+#: What each colour of the stripe box is (:data:`lab.reflection.DEFAULT_COLORS`): the wall of the box a point reflects.
+STRIPE_WALLS = (N_("wall −x"), N_("wall +x"), N_("wall −y"), N_("wall +y"), N_("floor (−z)"), N_("ceiling (+z)"))
+
+
+def stripe_legend_html():
+    """The stripe box's legend: a swatch per colour and the wall of the box it is reflected from."""
+    items = []
+    for rgb, wall in zip(DEFAULT_COLORS, STRIPE_WALLS):
+        colour = "#" + "".join(f"{round(255 * x):02x}" for x in rgb)
+        swatch = (f'<span style="display:inline-block;width:14px;height:10px;background:{colour};'
+                  f'border:1px solid #555;vertical-align:middle"></span>')
+        items.append(f"{swatch} {html.escape(_(wall))}")
+    text = html.escape(_("the colour says which wall of the box a point reflects; white: the gaps between stripes"))
+    return f"<small>{' &nbsp; '.join(items)}<br>{text}</small>"
+
+
 class ReflectionExplorer(Explorer):
     """Reflection lines, isophotes and the striped box mapping on a surface (Choi & Lee, §3).
 
@@ -154,7 +170,10 @@ class ReflectionExplorer(Explorer):
         self.show_edges = c(W.Checkbox(value=False, description=_("edges by continuity"), indent=False,
                                        layout=W.Layout(width="auto")))
         self.edge_legend = c(full_row_text())
+        self.stripe_legend = c(full_row_text())
+        self.stripe_legend.value = stripe_legend_html()
         self.edges = EdgeOverlay(surface)
+        self._show_controls()
         self._build_scene()
         for w in (self.kind, self.count, self.azimuth, self.elevation, self.orientation, self.spacing):
             self._observe(w, self.update_lines)
@@ -162,7 +181,18 @@ class ReflectionExplorer(Explorer):
 
     def _controls(self):
         return [self.kind, self.count, self.orientation, self.spacing, self.azimuth, self.elevation,
-                self.show_edges, self.edge_legend]
+                self.stripe_legend, self.show_edges, self.edge_legend]
+
+    #: The controls each kind uses: the stripe box has no light direction and no line spacing; lines and isophotes
+    #: have no box whose stripes could run horizontally or vertically.
+    USES: ClassVar[dict] = {"stripes": ("orientation", "stripe_legend"), "lines": ("spacing", "azimuth", "elevation"),
+                            "isophotes": ("azimuth", "elevation")}
+
+    def _show_controls(self):
+        """Show only the controls (and the stripes' legend) that apply to the chosen kind."""
+        used = self.USES[self.kind.value]
+        for name in ("orientation", "stripe_legend", "spacing", "azimuth", "elevation"):
+            getattr(self, name).layout.display = None if name in used else "none"
 
     def toggle_edges(self):
         """Show or hide the edges coloured by what they achieve (lab.continuity), with their legend."""
@@ -187,6 +217,7 @@ class ReflectionExplorer(Explorer):
         return self.surface_mesh
 
     def update_lines(self):
+        self._show_controls()  # here, not in an observer of its own: that one would clear this one's status
         kind = self.kind.value
         n = self.count.value
         d = self._direction()

@@ -90,10 +90,16 @@ class CurvatureTools:
         if self.model is not None:
             self._place_probe()
             e._observe(self.face, self.choose_face)
+        self._show_map_controls()
         for w in (self.map, self.pull, self.radius):
             e._observe(w, self.recolor_map)
         for w in (self.combs, self.comb_scale, self.comb_density, self.comb_count, self.probe, self.u, self.v):
             e._observe(w, self.update_lines)
+
+    def _show_map_controls(self):
+        """``pull`` only with the draft angle, ``r`` only with the radius map."""
+        self.pull.layout.display = None if self.map.value == "draft" else "none"
+        self.radius.layout.display = None if self.map.value == "radius" else "none"
 
     @property
     def active(self):
@@ -145,6 +151,7 @@ class CurvatureTools:
         e = self.e
         self.pull.disabled = self.map.value != "draft"
         self.radius.disabled = self.map.value != "radius"
+        self._show_map_controls()
         if not self.active:
             e.actor.mapper.SetColorModeToMapScalars()
             e.recolor()
