@@ -203,3 +203,29 @@ def test_pull_and_r_appear_only_with_their_map():
     for value, pull, radius in (("curvature", "none", "none"), ("draft", None, "none"), ("radius", "none", None)):
         t.map.value = value
         assert (t.pull.layout.display, t.radius.layout.display) == (pull, radius), value
+
+
+def test_combs_on_a_face_are_scaled_to_it_and_the_probe_is_marked():
+    """Linkrods' fillet 13: 16 teeth per border, the longest a quarter of the face's size (was a black tangle at
+    the default 0.05 per unit of curvature); with the probe on, a red dot of 16 pixels at the point."""
+    from lab.interrogation import combs
+    from lab.view.explorers import CurvatureExplorer
+
+    ex = CurvatureExplorer(lab.models.linkrods(), live=False)
+    t = ex.tools
+    t.face.value = 13
+    t.choose_face()
+    assert t.comb_density.value == 16
+    found = combs.border_combs(t.surface, density=16, scale=t.comb_scale.value)
+    points = np.concatenate([c.points for c in found])
+    teeth = np.concatenate([np.linalg.norm(c.tips - c.points, axis=1) for c in found])
+    size = np.linalg.norm(np.ptp(points, axis=0))
+    assert np.nanmax(teeth) == pytest.approx(0.25 * size, rel=1e-9)
+    t.probe.value = True
+    t.update_lines()
+    assert t.mark_actor is not None and t.mark_actor.GetProperty().GetPointSize() == 16
+    np.testing.assert_allclose(t.mark_actor.mapper.dataset.points[0], t.last_probe.point)
+    t.probe.value = False
+    t.update_lines()
+    assert t.mark_actor is None
+    ex.close()

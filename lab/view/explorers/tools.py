@@ -87,8 +87,10 @@ class CurvatureTools:
         self.readout = c(full_row_text())
         self.lines_actor = None
         self.last_probe = None
+        self.mark_actor = None
         if self.model is not None:
             self._place_probe()
+            self._fit_combs()
             e._observe(self.face, self.choose_face)
         self._show_map_controls()
         for w in (self.map, self.pull, self.radius):
@@ -139,7 +141,26 @@ class CurvatureTools:
         """Another face for the combs and the probe."""
         self.surface = self.model.face(self.face.value)
         self._place_probe()
+        self._fit_combs()
         self.update_lines()
+
+    #: On a face of a part: teeth per border, and the longest tooth as a fraction of the face's size.
+    FACE_COMB_DENSITY, FACE_COMB_LENGTH = 16, 0.25
+
+    def _fit_combs(self):
+        """The combs on a face of a part: :data:`FACE_COMB_DENSITY` teeth per border (a small fillet had a black
+        tangle of 32), scaled so that the longest tooth is :data:`FACE_COMB_LENGTH` of the face's size."""
+        found = _combs.border_combs(self.surface, density=self.FACE_COMB_DENSITY, scale=1.0, count=0)
+        kn = np.concatenate([np.abs(c.kn[np.isfinite(c.kn)]) for c in found]) if found else np.zeros(0)
+        points = np.concatenate([c.points for c in found]) if found else np.zeros((0, 3))
+        if not kn.size or kn.max() <= 0 or len(points) < 2:  # a plane: no teeth to scale
+            return
+        size = float(np.linalg.norm(np.ptp(points, axis=0)))
+        scale = float(np.clip(self.FACE_COMB_LENGTH * size / kn.max(), 10.0 ** self.comb_scale.min,
+                              10.0 ** self.comb_scale.max))
+        with self.e._quiet():
+            self.comb_density.value = self.FACE_COMB_DENSITY
+            self.comb_scale.value = scale
 
     # -- maps ---------------------------------------------------------------------------------
 
@@ -227,6 +248,17 @@ class CurvatureTools:
         lines = self.lines()
         if lines is not None:
             self.lines_actor = style.add_lines_on_surface(e.plotter, lines, pickable=False)
+        if self.mark_actor is not None:
+            e.plotter.remove_actor(self.mark_actor)
+            self.mark_actor = None
+        if self.last_probe is not None and np.all(np.isfinite(self.last_probe.point)):
+            # the probed point as a red dot of 16 pixels at any zoom (a ball in space was lost on a small face),
+            # drawn in front of the surface it lies on
+            self.mark_actor = e.plotter.add_points(np.asarray(self.last_probe.point, dtype=float).reshape(1, 3),
+                                                   color="#d7191c", point_size=16, render_points_as_spheres=True,
+                                                   pickable=False, reset_camera=False)
+            self.mark_actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
+            self.mark_actor.mapper.SetRelativeCoincidentTopologyPointOffsetParameter(style.LINE_OFFSET_UNITS)
         self.readout.value = self._probe_text()
         e.refresh()
 
