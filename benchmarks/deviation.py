@@ -74,8 +74,16 @@ def main(argv=None):
     if note:
         print(f"* extrapolated linearly from {m} points ({scale:g}x); OCC's time per point does not depend on how "
               "many points there are")
+    differ = int(np.count_nonzero(np.abs(diff_b) > 1e-8))
     print(f"BRepExtrema's distance minus the lab's: {-np.nanmax(diff_b):.2e} … {-np.nanmin(diff_b):.2e} "
-          f"(> 0: OCC's foot is farther than the lab's)")
+          f"(> 0: OCC's foot is farther than the lab's); {differ} of {int(inside.sum())} points differ by more than "
+          f"1e-8")
+    if differ:
+        far = np.abs(diff_b) > 1e-8
+        planted = np.abs(scan.offset[some][inside])
+        print(f"  of them: {int(np.count_nonzero((d.face[some] != scan.face[some])[inside][far]))} with the lab's foot "
+              f"on another face than the point was sampled on; OCC's distance beyond the planted offset (the "
+              f"sampled foot outside OCC's exact trim) at {int(np.count_nonzero((dist_b[inside] > planted + 1e-12)[far]))}")
     print(f"goal: lab >= 10x faster than OCC's per-point projection; the lab's feet inside a face: "
           f"{100 * (1 - d.border.mean()):.2f} %; distances in the part's unit (size {size:.3g})")
 
