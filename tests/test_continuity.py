@@ -56,7 +56,7 @@ def test_smooth_spline_surfaces_are_g2_everywhere():
     assert all(e.kind == "knot line" and e.multiplicity == 1 and e.g0 == 0 for e in rep.edges)
     assert max(e.g1 for e in rep.edges) <= 1e-11 and max(e.g2 for e in rep.edges) <= 1e-12
     torus = lab.continuity(lab.surfaces.torus())
-    assert torus.achieved == "G2" and sum(e.kind == "seam" for e in torus.edges) == 2
+    assert torus.achieved == "G3" and sum(e.kind == "seam" for e in torus.edges) == 2
 
 
 def test_tangent_arcs_are_g1_with_the_curvature_jump_of_their_radii():
@@ -305,3 +305,148 @@ def test_a_pcurve_that_slips_along_the_edge_is_no_gap(model_reports):
     assert all(e.g0 <= (e.g0_tol or 0) for e in slipped if e.g0 > 1e-6 * rep.size)  # the rest: within the file's
     sharp = [e for e in rep.edges if e.g1 > 10]
     assert len(sharp) == 6 and all(abs(e.g1 - 90) < 1e-6 for e in sharp)
+
+
+# --- G3: the jump of the cross-boundary derivative of the normal curvature --------------------------------------
+
+def spline_with_simple_knot(degree, multiplicity=1, seed=3):
+    """A degree-(p, 3) B-spline with the knot u = 0.5 of the given multiplicity (one span in v), its control
+    points' heights drawn at random (rounded): C^(p - multiplicity) across u = 0.5."""
+    rows = degree + 1 + multiplicity
+    knots_u = [0.0] * (degree + 1) + [0.5] * multiplicity + [1.0] * (degree + 1)
+    greville_u = [np.mean(knots_u[i + 1:i + degree + 1]) for i in range(rows)]
+    X, Y = np.meshgrid(greville_u, np.linspace(0, 1, 4), indexing="ij")
+    Z = np.round(np.random.default_rng(seed).normal(0, 0.3, X.shape), 2)
+    return lab.BSplineSurface(np.stack([X, Y, Z], axis=-1), knots_u, [0, 0, 0, 0, 1, 1, 1, 1], degree, 3)
+
+
+def one_sided_kn_derivative(surface, v, side, h):
+    """dκn/ds on one side (-1: u < 0.5, +1: u > 0.5) of the knot line at (0.5, v), along the geodesic leaving in
+    the cross direction c = N x b_v, by Richardson-extrapolated one-sided differences of κn from the public
+    evaluator (second derivatives only) along the geodesic to second order in (u, v).  Error O(h²)."""
+    def at(u, vv):
+        d = surface.derivatives(np.array([u]), np.array([vv]))
+        return d.map(lambda x: x[0])
+
+    def kn(d, tau):
+        N = np.cross(d.bu, d.bv)
+        N /= np.linalg.norm(N)
+        t = d.bu * tau[0] + d.bv * tau[1]
+        second = d.buu * tau[0] ** 2 + 2 * d.buv * tau[0] * tau[1] + d.bvv * tau[1] ** 2
+        return float(N @ second / (t @ t))
+
+    d0 = at(0.5 + side * 1e-13, v)
+    N = np.cross(d0.bu, d0.bv)
+    N /= np.linalg.norm(N)
+    c = np.cross(N, d0.bv)
+    c /= np.linalg.norm(c)
+    I = np.array([[d0.bu @ d0.bu, d0.bu @ d0.bv], [d0.bu @ d0.bv, d0.bv @ d0.bv]])
+    w = np.linalg.solve(I, [c @ d0.bu, c @ d0.bv])  # unit speed: c is a unit vector
+    Q = d0.buu * w[0] ** 2 + 2 * d0.buv * w[0] * w[1] + d0.bvv * w[1] ** 2
+    w2 = np.linalg.solve(I, [-(d0.bu @ Q), -(d0.bv @ Q)])
+    sigma = side * np.sign(w[0])  # s of this sign goes into the side
+    f0 = kn(d0, w)
+
+    def D(step):
+        s = sigma * step
+        uv = np.array([0.5, v]) + w * s + 0.5 * w2 * s * s
+        return (kn(at(*uv), w + w2 * s) - f0) / s
+
+    return 2 * D(h / 2) - D(h)
+
+
+@pytest.fixture(scope="module")
+def g3_reports():
+    """The reports of quartic, quintic and cubic splines with a simple knot and a quartic with a double one."""
+    cases = {(4, 1): None, (5, 1): None, (3, 1): None, (4, 2): None}
+    for degree, mult in cases:
+        s = spline_with_simple_knot(degree, mult)
+        cases[degree, mult] = (s, lab.continuity(s, samples=9))
+    return cases
+
+
+def knot_edge(report):
+    return next(e for e in report.edges if e.direction == "u" and e.value == 0.5)
+
+
+def test_a_simple_knot_of_a_quartic_or_quintic_is_g3_of_a_cubic_g2(g3_reports):
+    for (degree, mult), (_s, rep) in g3_reports.items():
+        e = knot_edge(rep)
+        assert e.multiplicity == mult and e.g2 <= 1e-12
+        if degree - mult >= 3:
+            assert e.achieved == "G3" and e.g3 <= 1e-11, (degree, mult, e)
+        else:
+            assert e.achieved == "G2" and e.g3 > 0.1, (degree, mult, e)  # far above the tolerance
+    assert rep.tolerances["g3"] == TOLERANCES["g3"] == 0.01
+    tight = lab.continuity(spline_with_simple_knot(4), tol_g3=0.0)
+    assert knot_edge(tight).achieved in ("G2", "G3")  # rounding may or may not be exactly 0
+    with pytest.raises(ValueError, match="tol_g3"):
+        lab.continuity(spline_with_simple_knot(4), tol_g3=-1)
+
+
+def test_g3_jump_equals_the_one_sided_differences(g3_reports):
+    """jump3 at each sample = |dκn/ds from below - from above| by Richardson differences.  Their error is O(h²)
+    (measured: a factor 4 per halving of h, from 2e-3 at h = 4e-3 to 8e-6 of the largest |κn'| at h = 2.5e-4);
+    stated tolerance at h = 2.5e-4: 2e-5 of the largest |κn'| (1/length²)."""
+    for (degree, mult), (s, rep) in g3_reports.items():
+        e = knot_edge(rep)
+        v = np.linspace(0, 1, len(e.jump3))[1:-1]  # inside: the geodesic may leave the domain at v = 0, 1
+        below = np.array([one_sided_kn_derivative(s, x, -1, 2.5e-4) for x in v])
+        above = np.array([one_sided_kn_derivative(s, x, +1, 2.5e-4) for x in v])
+        scale = np.max(np.abs(np.concatenate([below, above])))
+        assert scale > 0.1
+        np.testing.assert_allclose(e.jump3[1:-1], np.abs(below - above), atol=2e-5 * scale, rtol=0,
+                                   err_msg=f"degree {degree}, multiplicity {mult}")
+
+
+def test_a_torus_is_g3_across_its_double_knots():
+    """A rational biquadratic torus: its parametrization is only C1 at the double knots, its geometry is G∞."""
+    rep = lab.continuity(lab.surfaces.torus())
+    assert rep.achieved == "G3" and max(e.g3 for e in rep.edges) <= 1e-12
+
+
+def test_the_edge_overlay_draws_g3_black_readable_in_every_vision(g3_reports):
+    """G3 edges black in the overlay and counted in its legend; black stays >= 40 CAM02-UCS ΔE from each other
+    level's colour under normal vision and the three simulated dichromacies (lab.geometry.vision)."""
+    from lab.geometry import vision
+    from lab.view.explorers.edges import EDGE_COLORS, edge_legend_html, edge_lines
+
+    rep = g3_reports[4, 1][1]
+    lines = edge_lines(rep)
+    level = np.asarray(lines.cell_data["level"])
+    assert set(level) == {4} and np.all(np.asarray(lines.cell_data["RGB"]) == 0)  # every edge G3, black
+    assert "G3: 1" in edge_legend_html(rep) and "G3: 0" in edge_legend_html(g3_reports[3, 1][1])
+    rgb = np.array([[int(c[k:k + 2], 16) / 255 for k in (1, 3, 5)] for c in EDGE_COLORS.values()])
+    for deficiency in vision.VISIONS:
+        seen = rgb if deficiency is None else vision.simulate(rgb, deficiency)
+        assert np.min(vision.delta_e(seen[-1], seen[:-1])) >= 40, deficiency
+
+
+def test_the_report_exports_to_csv_and_reads_back_equal(g3_reports, tmp_path):
+    """Every edge's numbers as written (repr: the same floats), units and tolerances in the header; pandas too."""
+    from lab.interrogation.export import read_csv
+
+    for rep in (g3_reports[3, 1][1], crease_report(), lab.continuity(lab.surfaces.hood())):
+        path = rep.to_csv(tmp_path / "continuity.csv")
+        back = read_csv(path)
+        assert len(back.columns["g3"]) == len(rep.edges)
+        for name in ("g0", "g1", "g2", "g3"):
+            np.testing.assert_array_equal(back.columns[name], [getattr(e, name) for e in rep.edges])
+        assert list(back.columns["achieved"]) == [e.achieved for e in rep.edges]
+        np.testing.assert_array_equal(back.columns["worst_x"], [e.worst[0] for e in rep.edges])
+        np.testing.assert_array_equal(back.columns["value"], [e.value for e in rep.edges])
+        assert back.units["g3"] == "1/length²" and back.units["g1"] == "deg"
+        assert "g3 <= 0.01" in back.meta["tolerance"] and back.meta["achieved"] == rep.achieved
+    try:
+        import pandas as pd
+    except ImportError:  # pandas is optional: to_pandas says how to get it
+        with pytest.raises(ImportError, match="pip install pandas"):
+            rep.to_pandas()
+        return
+    frame = rep.to_pandas()
+    assert isinstance(frame, pd.DataFrame) and list(frame["g2"]) == [e.g2 for e in rep.edges]
+    assert frame.attrs["units"]["g0"] == "length"
+
+
+def crease_report():
+    return lab.continuity(crease())

@@ -1,4 +1,4 @@
-r"""How smooth is it?  G0, G1 and G2 across knot lines, patch borders and face edges (``lab.continuity``).
+r"""How smooth is it?  G0, G1, G2 and G3 across knot lines, patch borders and face edges (``lab.continuity``).
 
 The practical's purpose (its sheet, §1): "Die Krümmungsvisualisierung erlaubt eine erste grobe Beurteilung
 der Stetigkeit der zweiten Ableitung von B."  Here that judgement is a number per edge, as CAD systems
@@ -10,7 +10,13 @@ report it (OpenCASCADE's ``LocalAnalysis_SurfaceContinuity``, Rhino's EdgeContin
 * **G2** – ``g2``: the largest jump of the normal curvature in the cross-boundary direction
   :math:`\mathbf c = \mathbf N\times\mathbf t` (t the edge's tangent) on each side,
   :math:`|\kappa_n^A(\mathbf c_A) - \kappa_n^B(\mathbf c_B)|` (1/length), with
-  :math:`\kappa_n(\mathbf c) = \mathrm{II}(\mathbf c)/\mathrm I(\mathbf c)`.
+  :math:`\kappa_n(\mathbf c) = \mathrm{II}(\mathbf c)/\mathrm I(\mathbf c)`;
+* **G3** – ``g3``: the largest jump of the normal curvature's derivative in that direction,
+  :math:`|\kappa_n'^A - \kappa_n'^B|` (1/length²), :math:`\kappa_n'` taken along the geodesic leaving the edge in
+  direction c (:func:`curvature_derivative`: third derivatives, so one-sided Bézier rows up to the third).  A
+  B-spline of degree p with a knot of multiplicity k is C^(p-k) there: a simple knot of a quartic or quintic is G3,
+  of a cubic G2 (its third derivative jumps).  Reflection lines show a G3 break as a jump of their curvature, which
+  class-A surfaces avoid.
 
 Every value comes from exact one-sided limits: each side is a Bézier patch (a B-spline surface's knot
 spans, the patches of a collection) evaluated on its own border, so nothing is estimated by differences.
@@ -18,10 +24,12 @@ A model's face edges (:func:`lab.read`) pair each face's surface at the edge's p
 faces' orientations (the angle then runs from 0° to 180°; a sewn file's faces as sewing oriented them,
 ``edge.reversed``) and the file's exact edge tangents.
 
-An edge *achieves* G0 when ``g0 <= tol_g0``, G1 when also ``g1 <= tol_g1`` and G2 when also
-``g2 <= tol_g2 * (max |κn| on the edge + 1/size)``; otherwise ``"none"``.  The default tolerances
-(:data:`TOLERANCES`): ``tol_g0 = 1e-6`` of the model's size (bounding-box diagonal), ``tol_g1 = 0.05``
-degrees, ``tol_g2 = 0.01`` (1 %, OpenCASCADE's default ``Percent``).
+An edge *achieves* G0 when ``g0 <= tol_g0``, G1 when also ``g1 <= tol_g1``, G2 when also
+``g2 <= tol_g2 * (max |κn| on the edge + 1/size)`` and G3 when also ``g3 <= tol_g3 * (max |κn'| + 1/size²)``;
+otherwise ``"none"``.  The default tolerances (:data:`TOLERANCES`): ``tol_g0 = 1e-6`` of the model's size
+(bounding-box diagonal), ``tol_g1 = 0.05`` degrees, ``tol_g2 = 0.01`` (1 %, OpenCASCADE's default ``Percent``),
+``tol_g3 = 0.01`` (1 %).  A model's face edges are measured up to G2 (its faces' evaluators give second
+derivatives); ``g3`` is NaN there.
 """
 
 from dataclasses import dataclass, field
@@ -30,16 +38,17 @@ import numpy as np
 
 from ..geometry import bezier
 from ..geometry import validation as _v
-from ..geometry.derivatives import Derivatives, from_homogeneous
+from ..geometry.derivatives import Derivatives
 from ..i18n import N_, _, decimal
 from ..model.patches import BezierPatches
 from ..model.surface import BSplineSurface
+from . import export
 from .faces import collapsed_sides, on_collapsed_side
 
 __all__ = ["LEVELS", "TOLERANCES", "Continuity", "Edge", "continuity", "measures"]
 
 #: What an edge can achieve, worst first.
-LEVELS = ("none", "G0", "G1", "G2")
+LEVELS = ("none", "G0", "G1", "G2", "G3")
 #: How a level is written for people: "none" (not even closed) as "open" (German "offen"); the others as they are.
 LEVEL_NAMES = {"none": N_("open")}
 
@@ -51,7 +60,7 @@ def level_name(level):
 EDGE_KINDS = {"knot line": N_("knot line"), "seam": N_("seam"), "patch border": N_("patch border"),
               "face edge": N_("face edge")}
 #: Default tolerances: g0 relative to the model's size, g1 in degrees, g2 relative (see the module docstring).
-TOLERANCES = {"g0": 1e-6, "g1": 0.05, "g2": 0.01}
+TOLERANCES = {"g0": 1e-6, "g1": 0.05, "g2": 0.01, "g3": 0.01}
 
 
 @dataclass(frozen=True, eq=False)
@@ -82,6 +91,10 @@ class Edge:
         The edge's own G0 tolerance (a length) where it is larger than the report's: a model's face edge is
         closed within twice the file's tolerance of the edge (each face's pcurve lies within that tolerance of
         the edge's curve, ``BRep_Tool.Tolerance``), which CAD files need for the gaps they leave.
+    g3 : float
+        Largest jump of the cross-boundary derivative of the normal curvature (1/length², see
+        :func:`curvature_derivative`), with ``jump3`` (k,) at the samples; NaN where not measured (a model's face
+        edges: their surfaces give second derivatives only, so they achieve at most G2).
     """
 
     kind: str
@@ -99,11 +112,13 @@ class Edge:
     angle: np.ndarray = field(repr=False)
     jump: np.ndarray = field(repr=False)
     g0_tol: object = field(default=None, repr=False)
+    g3: float = float("nan")
+    jump3: object = field(default=None, repr=False)
 
     def __repr__(self):
         where = f"{self.direction} = {self.value:g}" if self.value is not None else f"faces {self.faces}"
         return (f"Edge({self.kind} {where}: {self.achieved}, g0={self.g0:.3g}, g1={self.g1:.3g} deg, "
-                f"g2={self.g2:.3g})")
+                f"g2={self.g2:.3g}, g3={self.g3:.3g})")
 
 
 @dataclass(frozen=True, eq=False)
@@ -116,8 +131,8 @@ class Continuity:
 
     @property
     def achieved(self):
-        """The least any edge achieves (``"G2"`` when there are no edges)."""
-        return min((e.achieved for e in self.edges), key=LEVELS.index, default="G2")
+        """The least any edge achieves (``"G3"`` when there are no edges)."""
+        return min((e.achieved for e in self.edges), key=LEVELS.index, default="G3")
 
     @property
     def worst(self):
@@ -126,9 +141,15 @@ class Continuity:
             return None
         return min(self.edges, key=lambda e: (LEVELS.index(e.achieved), -_deciding(e, self.tolerances, self.size)))
 
+    @property
+    def measured_g3(self):
+        """Whether G3 was measured on any edge (not on a model's face edges, see :attr:`Edge.g3`)."""
+        return any(np.isfinite(e.g3) for e in self.edges)
+
     def counts(self):
-        """``{level: number of edges}`` for the four levels."""
-        return {level: sum(e.achieved == level for e in self.edges) for level in LEVELS[::-1]}
+        """``{level: number of edges}``, best level first; "G3" only where G3 was measured (:attr:`measured_g3`)."""
+        levels = LEVELS[::-1] if self.measured_g3 else LEVELS[-2::-1]
+        return {level: sum(e.achieved == level for e in self.edges) for level in levels}
 
     def summary(self):
         """One line: the number of edges, how many achieve each level, and the level of the whole (current
@@ -146,7 +167,10 @@ class Continuity:
         rows = sorted(self.edges, key=lambda e: (LEVELS.index(e.achieved), -_deciding(e, tol, self.size)))
         edge, g0, g1, g2, achieved = (_("edge"), _("G0 gap"), _("G1 angle [deg]"), _("G2 jump [1/length]"),
                                       _("achieved"))
-        header = f"{edge:<26} {g0:>10} {g1:>15} {g2:>19} {achieved:>9}"
+        has_g3 = self.measured_g3  # a model's face edges: no G3 column
+        g3 = _("G3 jump [1/length²]")
+        g3 = f" {g3:>20}" if has_g3 else ""
+        header = f"{edge:<26} {g0:>10} {g1:>15} {g2:>19}{g3} {achieved:>9}"
         lines = [header, "-" * len(header)]
         for e in rows[:max_rows]:
             kind = _(EDGE_KINDS.get(e.kind, e.kind))
@@ -154,7 +178,8 @@ class Continuity:
                 name = f"{kind} {e.direction} = {decimal(f'{e.value:.6g}')}"
             else:
                 name = f"{kind} {min(e.faces)}|{max(e.faces)}"
-            numbers = decimal(f"{e.g0:10.3g} {e.g1:15.3g} {e.g2:19.3g}")
+            g3_text = "" if not has_g3 else f" {e.g3:20.3g}" if np.isfinite(e.g3) else f" {'–':>20}"
+            numbers = decimal(f"{e.g0:10.3g} {e.g1:15.3g} {e.g2:19.3g}{g3_text}")
             lines.append(f"{name:<26} {numbers} {level_name(e.achieved):>9}")
         if len(rows) > max_rows:
             lines.append(_("… {n} more edges").format(n=len(rows) - max_rows))
@@ -163,6 +188,9 @@ class Continuity:
                                "G2 jump <= {g2} x (max |kn| + 1/size)").format(
             g0=f"{tol['g0'] * self.size:.3g}", tol_g0=f"{tol['g0']:g}", size=f"{self.size:.4g}", g1=f"{tol['g1']:g}",
             g2=f"{tol['g2']:g}")))
+        if has_g3:
+            lines.append(decimal(_("  G3 jump <= {g3} x (max |kn'| + 1/size^2), kn' along the cross-boundary geodesic")
+                                 .format(g3=f"{tol['g3']:g}")))
         if any(e.g0_tol is not None for e in self.edges):
             lines.append(_("  face edges: G0 gap also <= twice the file's tolerance of the edge (up to {g0})").format(
                 g0=decimal(f"{max(e.g0_tol or 0 for e in self.edges):.3g}")))
@@ -171,6 +199,30 @@ class Continuity:
     def __repr__(self):
         return f"Continuity({len(self.edges)} edges, achieved {self.achieved}: {self.counts()})"
 
+    def _table(self):
+        """One row per edge (in :attr:`edges`' order): what it is, its four measures, the level and the worst point."""
+        e = self.edges
+        nan = float("nan")
+        columns = {
+            "kind": [x.kind for x in e], "direction": [x.direction or "" for x in e],
+            "value": [nan if x.value is None else float(x.value) for x in e],
+            "faces": ["" if x.faces is None else "|".join(str(int(f)) for f in x.faces) for x in e],
+            "multiplicity": [nan if x.multiplicity is None else float(x.multiplicity) for x in e],
+            "g0": [x.g0 for x in e], "g1": [x.g1 for x in e], "g2": [x.g2 for x in e], "g3": [x.g3 for x in e],
+            "achieved": [x.achieved for x in e], "worst_x": [float(x.worst[0]) for x in e],
+            "worst_y": [float(x.worst[1]) for x in e], "worst_z": [float(x.worst[2]) for x in e]}
+        length = _("length")
+        units = {"value": _("parameter"), "g0": length, "g1": _("deg"), "g2": f"1/{length}", "g3": f"1/{length}²",
+                 "worst_x": length, "worst_y": length, "worst_z": length}
+        tol = self.tolerances
+        meta = {"tolerance": f"g0 <= {tol['g0']!r} x size; g1 <= {tol['g1']!r} deg; g2 <= {tol['g2']!r} x "
+                             f"(max |kn| + 1/size); g3 <= {tol['g3']!r} x (max |kn'| + 1/size^2)",
+                "size": repr(self.size), "achieved": self.achieved}
+        return export.Table(_("continuity across edges"), columns, units, meta)
+
+    to_csv = export.to_csv
+    to_pandas = export.to_pandas
+
 
 def _deciding(edge, tol, size):
     """The measure that decides an edge's level, relative to its tolerance (for sorting)."""
@@ -178,7 +230,9 @@ def _deciding(edge, tol, size):
         return edge.g0 / (edge.g0_tol or tol["g0"] * size)
     if edge.achieved == "G0":
         return edge.g1 / tol["g1"]
-    return edge.g2
+    if edge.achieved == "G1":
+        return edge.g2
+    return edge.g3 if np.isfinite(edge.g3) else 0.0
 
 
 def _dot(a, b):
@@ -218,18 +272,7 @@ def measures(dA, dB, tA, tB, signs=None):
     """
     with np.errstate(invalid="ignore", divide="ignore"):
         gap = np.linalg.norm(dA.b - dB.b, axis=-1)
-        NA, NB = np.cross(dA.bu, dA.bv), np.cross(dB.bu, dB.bv)
-        NA = NA / np.linalg.norm(NA, axis=-1, keepdims=True)
-        NB = NB / np.linalg.norm(NB, axis=-1, keepdims=True)
-        if signs is not None:
-            NA, NB = NA * np.asarray(signs[0])[..., None], NB * np.asarray(signs[1])[..., None]
-        cos = _dot(NA, NB)
-        sine = np.linalg.norm(np.cross(NA, NB), axis=-1)
-        if signs is None:
-            angle = np.degrees(np.arctan2(sine, np.abs(cos)))
-            flip = np.where(cos < 0, -1.0, 1.0)  # opposite orientations: compare as one surface
-        else:
-            angle, flip = np.degrees(np.arctan2(sine, cos)), 1.0
+        NA, NB, angle, flip = _normals(dA, dB, signs)  # flip: opposite orientations compared as one surface
         cA, cB = np.cross(NA, tA), np.cross(NB, tB)
         kA = _normal_curvature(dA, NA, cA)
         kB = flip * _normal_curvature(dB, NB, cB)
@@ -238,44 +281,126 @@ def measures(dA, dB, tA, tB, signs=None):
     return gap, angle, jump, kn
 
 
-def _levels(g0, g1, g2, kn, tol, size, g0_tol=None):
-    """The level achieved for arrays of per-edge maxima (``g0_tol``: per-edge G0 tolerances where larger)."""
+def _normals(dA, dB, signs):
+    """Unit normals of the two sides (oriented by ``signs``), their angle in degrees and the factor (+-1) that
+    turns side B's curvatures to side A's orientation (see :func:`measures`)."""
+    NA, NB = np.cross(dA.bu, dA.bv), np.cross(dB.bu, dB.bv)
+    NA = NA / np.linalg.norm(NA, axis=-1, keepdims=True)
+    NB = NB / np.linalg.norm(NB, axis=-1, keepdims=True)
+    if signs is not None:
+        NA, NB = NA * np.asarray(signs[0])[..., None], NB * np.asarray(signs[1])[..., None]
+    cos = _dot(NA, NB)
+    sine = np.linalg.norm(np.cross(NA, NB), axis=-1)
+    if signs is None:
+        return NA, NB, np.degrees(np.arctan2(sine, np.abs(cos))), np.where(cos < 0, -1.0, 1.0)
+    return NA, NB, np.degrees(np.arctan2(sine, cos)), 1.0
+
+
+def curvature_derivative(d, third, N, c):
+    r"""The derivative :math:`d\kappa_n/ds` of the normal curvature along the geodesic that leaves each point in the
+    tangent direction ``c``, from the derivatives ``d`` and ``third = (buuu, buuv, buvv, bvvv)`` at the point.
+
+    Along a unit-speed geodesic :math:`\gamma(s)` the acceleration is normal, :math:`\gamma'' = \kappa_n \mathbf N`,
+    so :math:`\kappa_n' = \mathbf N\cdot\gamma'''` (as :math:`\mathbf N'\perp\mathbf N`).  With
+    :math:`\gamma' = \mathbf b_u u' + \mathbf b_v v'` (``(u', v')`` the coordinates of ``c``, made unit in I) and
+    :math:`(u'', v'')` from :math:`\mathrm I\,(u'', v'')^T = -(\mathbf b_u\cdot\mathbf Q, \mathbf b_v\cdot\mathbf Q)^T`,
+    :math:`\mathbf Q = \mathbf b_{uu}u'^2 + 2\mathbf b_{uv}u'v' + \mathbf b_{vv}v'^2` (the geodesic equation),
+
+    .. math::
+
+        \kappa_n' = \mathbf N\cdot(\mathbf b_{uuu}u'^3 + 3\mathbf b_{uuv}u'^2v' + 3\mathbf b_{uvv}u'v'^2
+        + \mathbf b_{vvv}v'^3) + 3\,(e\,u'u'' + f\,(u''v' + u'v'') + g\,v'v'').
+
+    A geometric quantity (1/length²): the same for every parametrization of the surface, so a G3 surface gives the
+    same value on both sides of an edge.  ``N`` the unit normal (its sign is the sign of the result), ``c``
+    tangent; all arrays ``(k, 3)``.
+    """
+    E, F, G = _dot(d.bu, d.bu), _dot(d.bu, d.bv), _dot(d.bv, d.bv)
+    det = E * G - F * F
+    a, b = _dot(c, d.bu), _dot(c, d.bv)
+    w1, w2 = (G * a - F * b) / det, (E * b - F * a) / det
+    speed = np.sqrt(E * w1 * w1 + 2 * F * w1 * w2 + G * w2 * w2)
+    w1, w2 = w1 / speed, w2 / speed
+    Q = d.buu * (w1 * w1)[..., None] + 2 * d.buv * (w1 * w2)[..., None] + d.bvv * (w2 * w2)[..., None]
+    qa, qb = -_dot(d.bu, Q), -_dot(d.bv, Q)
+    a2, b2 = (G * qa - F * qb) / det, (E * qb - F * qa) / det
+    buuu, buuv, buvv, bvvv = third
+    cubic = (_dot(N, buuu) * w1 ** 3 + 3 * _dot(N, buuv) * w1 * w1 * w2 + 3 * _dot(N, buvv) * w1 * w2 * w2
+             + _dot(N, bvvv) * w2 ** 3)
+    e, f, g = _dot(N, d.buu), _dot(N, d.buv), _dot(N, d.bvv)
+    return cubic + 3 * (e * w1 * a2 + f * (a2 * w2 + w1 * b2) + g * w2 * b2)
+
+
+def measures_g3(dA, dB, thirdA, thirdB, tA, signs=None):
+    r"""The jump of :func:`curvature_derivative` across an edge in its cross-boundary direction
+    :math:`\mathbf c = \mathbf N_A\times\mathbf t` (side B: c projected into B's tangent plane, B's normal turned to
+    A's orientation as in :func:`measures`).
+
+    Returns ``jump3, dkn``, each ``(k,)``: the jump and the larger |κn'| of the two sides (1/length²)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        NA, NB, _angle, flip = _normals(dA, dB, signs)
+        NB = NB * np.asarray(flip)[..., None] if np.ndim(flip) else NB * flip
+        c = np.cross(NA, tA)
+        c = c / np.linalg.norm(c, axis=-1, keepdims=True)
+        cB = c - _dot(c, NB)[..., None] * NB
+        kA = curvature_derivative(dA, thirdA, NA, c)
+        kB = curvature_derivative(dB, thirdB, NB, cB)
+        return np.abs(kA - kB), np.maximum(np.abs(kA), np.abs(kB))
+
+
+def _levels(g0, g1, g2, kn, tol, size, g0_tol=None, g3=None, dkn=None):
+    """The level achieved for arrays of per-edge maxima (``g0_tol``: per-edge G0 tolerances where larger;
+    without ``g3`` at most G2)."""
     out = np.full(np.shape(g0), "G2", dtype=object)
+    if g3 is not None:
+        out[g3 <= tol["g3"] * (dkn + 1 / size ** 2)] = "G3"
     out[~(g2 <= tol["g2"] * (kn + 1 / size))] = "G1"
     out[~(g1 <= tol["g1"])] = "G0"
     out[~(g0 <= (tol["g0"] * size if g0_tol is None else np.maximum(tol["g0"] * size, g0_tol)))] = "none"
     return out
 
 
-def _edges(meta, dA, dB, tA, tB, tol, size, signs=None, g0_tol=None):
+def _edges(meta, dA, dB, tA, tB, tol, size, signs=None, g0_tol=None, third=None):
     """Edges from paired samples: fields of ``dA, dB`` and ``tA, tB`` have shape ``(edges, samples, 3)``;
     ``meta`` holds per edge ``(kind, direction, value, faces, multiplicity)``; ``signs`` as in :func:`measures`
-    with shape ``(edges, samples)``; ``g0_tol`` per edge, its own G0 tolerance (a length) where larger."""
+    with shape ``(edges, samples)``; ``g0_tol`` per edge, its own G0 tolerance (a length) where larger;
+    ``third`` the two sides' third derivatives (each a 4-tuple of such arrays) for G3."""
     flat = lambda x: x.reshape(-1, 3)
     if signs is not None:
         signs = tuple(np.asarray(x).ravel() for x in signs)
     gap, angle, jump, kn = measures(dA.map(flat), dB.map(flat), flat(tA), flat(tB), signs)
     shape = tA.shape[:2]
     gap, angle, jump, kn = (x.reshape(shape) for x in (gap, angle, jump, kn))
+    jump3 = g3 = dknmax = None
+    if third is not None:
+        jump3, dkn = measures_g3(dA.map(flat), dB.map(flat), *(tuple(map(flat, x)) for x in third), flat(tA), signs)
+        jump3, dkn = jump3.reshape(shape), dkn.reshape(shape)
     ok = np.isfinite(angle) & np.isfinite(jump)
     with np.errstate(invalid="ignore"):
         g0 = np.max(gap, axis=1)
         g1 = np.max(np.where(ok, angle, 0.0), axis=1)
         g2 = np.max(np.where(ok, jump, 0.0), axis=1)
         knmax = np.max(np.where(ok, kn, 0.0), axis=1)
-    levels = _levels(g0, g1, g2, knmax, tol, size, g0_tol)
+        if third is not None:
+            ok3 = ok & np.isfinite(jump3)
+            g3 = np.max(np.where(ok3, jump3, 0.0), axis=1)
+            dknmax = np.max(np.where(ok3, dkn, 0.0), axis=1)
+    levels = _levels(g0, g1, g2, knmax, tol, size, g0_tol, g3, dknmax)
     deciding = np.where((levels == "none")[:, None], gap, np.where((levels == "G0")[:, None], angle, jump))
+    if third is not None:
+        deciding = np.where((levels == "G2")[:, None], jump3, deciding)
     deciding = np.where(ok | (levels == "none")[:, None], deciding, -np.inf)
     worst = np.argmax(deciding, axis=1)
     points = dA.b
     own = [None] * len(meta) if g0_tol is None else [float(x) if x > tol["g0"] * size else None for x in g0_tol]
     return [Edge(*meta[i], float(g0[i]), float(g1[i]), float(g2[i]), levels[i], points[i, worst[i]].copy(),
-                 points[i], gap[i], angle[i], jump[i], own[i]) for i in range(len(meta))]
+                 points[i], gap[i], angle[i], jump[i], own[i], float("nan") if g3 is None else float(g3[i]),
+                 None if jump3 is None else jump3[i]) for i in range(len(meta))]
 
 
-def _tolerances(tol_g0, tol_g1, tol_g2):
+def _tolerances(tol_g0, tol_g1, tol_g2, tol_g3=None):
     tol = dict(TOLERANCES)
-    for name, x in (("g0", tol_g0), ("g1", tol_g1), ("g2", tol_g2)):
+    for name, x in (("g0", tol_g0), ("g1", tol_g1), ("g2", tol_g2), ("g3", tol_g3)):
         if x is not None:
             try:
                 x = float(x)
@@ -292,45 +417,72 @@ def _size(points):
     return float(np.linalg.norm(p.max(axis=0) - p.min(axis=0))) or 1.0
 
 
-def _bernstein_derivatives(n, t):
-    """Bernstein bases of degree n at ``t`` and their first and second derivatives, each ``(len(t), n+1)``."""
-    B = bezier.bernstein(n, t)
-    if n == 0:
-        return B, np.zeros_like(B), np.zeros_like(B)
-    lower = bezier.bernstein(n - 1, t)
-    d1 = n * (np.pad(lower, ((0, 0), (1, 0))) - np.pad(lower, ((0, 0), (0, 1))))
-    if n == 1:
-        return B, d1, np.zeros_like(B)
-    low2 = bezier.bernstein(n - 2, t)
-    d2 = n * (n - 1) * (np.pad(low2, ((0, 0), (2, 0))) - 2 * np.pad(low2, ((0, 0), (1, 1)))
-                        + np.pad(low2, ((0, 0), (0, 2))))
-    return B, d1, d2
+def _bernstein_derivatives(n, t, order=2):
+    """Bernstein bases of degree n at ``t`` and their derivatives up to ``order``, each ``(len(t), n+1)``.
+
+    The k-th derivative is ``n (n-1) … (n-k+1)`` times the k-th backward difference of the degree-(n-k) basis."""
+    out = [bezier.bernstein(n, t)]
+    for k in range(1, order + 1):
+        if k > n:
+            out.append(np.zeros_like(out[0]))
+            continue
+        x = bezier.bernstein(n - k, t)
+        for _step in range(k):
+            x = np.pad(x, ((0, 0), (1, 0))) - np.pad(x, ((0, 0), (0, 1)))
+        out.append(float(np.prod(np.arange(n - k + 1, n + 1))) * x)
+    return out
 
 
-def _border(nets, w, axis, end, t):
+def _quotient(A, order):
+    """Derivatives ``{(i, j): S_(u^i v^j)}`` of a rational surface from those of its homogeneous form ``A`` (same
+    keys, last coordinate the weight) by the Leibniz rule, :math:`A^{(a,b)} = \\sum \\binom{a}{i}\\binom{b}{j}
+    w^{(i,j)} S^{(a-i,b-j)}` solved for :math:`S^{(a,b)}` (The NURBS Book, eq. 4.20 to any order)."""
+    from math import comb
+
+    w = {k: x[..., -1:] for k, x in A.items()}
+    S = {}
+    for total in range(order + 1):
+        for a in range(total, -1, -1):
+            b = total - a
+            x = A[a, b][..., :-1].copy()
+            for i in range(a + 1):
+                for j in range(b + 1):
+                    if i or j:
+                        x -= comb(a, i) * comb(b, j) * w[i, j] * S[a - i, b - j]
+            S[a, b] = x / w[0, 0]
+    return S
+
+
+def _border(nets, w, axis, end, t, order=2):
     """Exact one-sided derivatives of patches ``nets`` (..., p+1, q+1, 3) on their border ``axis`` (0: u = end,
     1: v = end) at ``t``: fields ``(...) + t.shape + (3,)``.
 
-    On a border the surface and its cross derivatives are Bézier curves: the first three rows of control
+    On a border the surface and its cross derivatives are Bézier curves: the first ``order + 1`` rows of control
     points by forward differences (practical, section 3), evaluated with the Bernstein basis and its
     derivatives along the border; rational patches in homogeneous coordinates, then the quotient rule.
+    Returns :class:`Derivatives`; with ``order=3`` also the third derivatives ``(buuu, buuv, buvv, bvvv)``.
     """
+    from math import comb
+
     Pw = bezier.homogeneous(nets, w)
     if axis == 1:  # make the border a row: the cross direction first
         Pw = np.swapaxes(Pw, -3, -2)
     m, n = Pw.shape[-3] - 1, Pw.shape[-2] - 1
     rows = Pw[..., ::-1, :, :] if end == 1.0 else Pw  # rows[0] on the border, rows[1], rows[2] inwards
     sign = -1.0 if end == 1.0 else 1.0  # differences taken inwards: d/du at u = 1 has the opposite sign
-    R0 = rows[..., 0, :, :]
-    R1 = sign * m * (rows[..., 1, :, :] - rows[..., 0, :, :])
-    R2 = m * (m - 1) * (rows[..., 2, :, :] - 2 * rows[..., 1, :, :] + rows[..., 0, :, :]) if m >= 2 else 0 * R0
-    B, B1, B2 = _bernstein_derivatives(n, t)
-    along = np.matmul  # (k, n+1) @ (..., n+1, d) -> (..., k, d)
-    b, bc, bcc = along(B, R0), along(B, R1), along(B, R2)
-    bt, bct, btt = along(B1, R0), along(B1, R1), along(B2, R0)
-    fields = (b, bc, bt, bcc, bct, btt) if axis == 0 else (b, bt, bc, btt, bct, bcc)
-    d = Derivatives(*fields)
-    return d if w is None else from_homogeneous(d)
+    basis = _bernstein_derivatives(n, t, order)
+    A = {}
+    for k in range(order + 1):  # the k-th cross derivative's control row
+        if k > m:
+            R = 0 * rows[..., 0, :, :]
+        else:
+            R = sum((-1) ** (k - j) * comb(k, j) * rows[..., j, :, :] for j in range(k + 1))
+            R = sign ** k * float(np.prod(np.arange(m - k + 1, m + 1))) * R
+        for a in range(order + 1 - k):  # (k across, a along) -> (u, v) exponents
+            A[(k, a) if axis == 0 else (a, k)] = np.matmul(basis[a], R)
+    S = A if w is None else _quotient(A, order)
+    d = Derivatives(S[0, 0], S[1, 0], S[0, 1], S[2, 0], S[1, 1], S[0, 2])
+    return d if order < 3 else (d, (S[3, 0], S[2, 1], S[1, 2], S[0, 3]))
 
 
 def _grid_edges(nets, w, seams, tol, size, samples, kind, knot_lines=None):
@@ -351,7 +503,8 @@ def _grid_edges(nets, w, seams, tol, size, samples, kind, knot_lines=None):
         take = (lambda x, i: x[i]) if axis == 0 else (lambda x, i: np.swapaxes(x[:, i], 0, 1))
         A, B = take(nets, a), take(nets, b)  # (lines, others, p+1, q+1, 3)
         wA, wB = (None, None) if w is None else (take(w, a), take(w, b))
-        dA, dB = _border(A, wA, axis, 1.0, t), _border(B, wB, axis, 0.0, t)  # (lines, others, samples, 3)
+        (dA, thA), (dB, thB) = (_border(A, wA, axis, 1.0, t, 3),
+                                _border(B, wB, axis, 0.0, t, 3))  # (lines, others, samples, 3)
         tA, tB = (dA.bv, dB.bv) if axis == 0 else (dA.bu, dB.bu)
         direction = "uv"[axis]
         seam = b < a
@@ -367,7 +520,8 @@ def _grid_edges(nets, w, seams, tol, size, samples, kind, knot_lines=None):
             meta = [("seam" if seam[i] else kind, direction, None, flat[i * others + j], None)
                     for i in range(len(a)) for j in range(others)]
             merge = lambda x: x.reshape(-1, x.shape[-2], 3)
-        edges += _edges(meta, dA.map(merge), dB.map(merge), merge(tA), merge(tB), tol, size)
+        third = (tuple(map(merge, thA)), tuple(map(merge, thB)))
+        edges += _edges(meta, dA.map(merge), dB.map(merge), merge(tA), merge(tB), tol, size, third=third)
     return edges
 
 
@@ -402,21 +556,24 @@ def _matched_edges(patches, tol, size, samples):
         return []
     sides = []
     for side in (0, 1):
-        derivs, tangents = [], []
+        derivs, thirds, tangents = [], [], []
         for found in pairs:
             k, axis, end, forward = found[side]
             tt = t if side == 0 or forward == found[0][3] else 1.0 - t
-            d = _border(P[k], None if w is None else w[k], axis, end, tt)
+            d, th = _border(P[k], None if w is None else w[k], axis, end, tt, 3)
             derivs.append(d)
+            thirds.append(th)
             tangents.append(d.bv if axis == 0 else d.bu)
         stacked = type(derivs[0])(*(np.stack([getattr(d, f) for d in derivs]) for f in derivs[0]._fields))
-        sides.append((stacked, np.stack(tangents)))
+        sides.append((stacked, np.stack(tangents), tuple(np.stack(x) for x in zip(*thirds))))
     meta = [("patch border", None, None, (found[0][0], found[1][0]), None) for found in pairs]
-    return _edges(meta, sides[0][0], sides[1][0], sides[0][1], sides[1][1], tol, size)
+    return _edges(meta, sides[0][0], sides[1][0], sides[0][1], sides[1][1], tol, size,
+                  third=(sides[0][2], sides[1][2]))
 
 
-def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None):
-    """G0/G1/G2 across the knot lines of a B-spline surface, the shared borders of Bézier patches or a model's edges.
+def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None, tol_g3=None):
+    """G0/G1/G2/G3 across the knot lines of a B-spline surface, the shared borders of Bézier patches or a model's
+    edges (a model's: up to G2).
 
     Parameters
     ----------
@@ -428,7 +585,7 @@ def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None):
     samples : int
         Samples per knot span (or per border) along each edge; a model's edges keep the samples
         :func:`lab.read` took.
-    tol_g0, tol_g1, tol_g2 : float, optional
+    tol_g0, tol_g1, tol_g2, tol_g3 : float, optional
         Tolerances (see the module docstring; defaults :data:`TOLERANCES`).
 
     Returns
@@ -441,9 +598,11 @@ def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None):
     >>> import lab
     >>> lab.continuity(lab.surfaces.practical()).achieved      # a bicubic B-spline with simple knots is C2
     'G2'
+    >>> lab.continuity(lab.surfaces.torus()).achieved           # rational, double knots: G3 all the same
+    'G3'
     """
     samples = _v.as_positive_int(samples, "samples", minimum=2, maximum=100_000)
-    tol = _tolerances(tol_g0, tol_g1, tol_g2)
+    tol = _tolerances(tol_g0, tol_g1, tol_g2, tol_g3)
     if isinstance(obj, BSplineSurface):
         nets, w, iu, iv = obj.bezier_nets()
         size = _size(obj.control_points)

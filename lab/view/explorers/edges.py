@@ -18,8 +18,11 @@ from .. import style
 
 __all__ = ["EDGE_COLORS", "EdgeOverlay", "add_edge_overlay", "edge_legend_html", "edge_lines", "edge_report"]
 
-#: the colour of each level (worst first: violet for an open gap (unlike red at a glance), red a kink, orange a curvature jump, white G2)
-EDGE_COLORS = {"none": "#7b2cbf", "G0": "#d7191c", "G1": "#fdae61", "G2": "#ffffff"}
+#: the colour of each level (worst first: violet for an open gap (unlike red at a glance), red a kink, orange a
+#: curvature jump; the two smooth levels achromatic, white G2 and black G3, which no colour-vision deficiency
+#: changes: black differs from each of the others by CAM02-UCS ΔE >= 41 under normal vision, protanopia,
+#: deuteranopia and tritanopia (lab.geometry.vision; the four others are 28 apart at least))
+EDGE_COLORS = {"none": "#7b2cbf", "G0": "#d7191c", "G1": "#fdae61", "G2": "#ffffff", "G3": "#000000"}
 
 
 def edge_report(source):
@@ -65,7 +68,7 @@ def edge_legend_html(report):
         return ""
     counts = report.counts()
     items = []
-    for level in LEVELS[::-1]:
+    for level in counts:  # best first; G3 where it was measured
         swatch = (f'<span style="display:inline-block;width:14px;height:4px;background:{EDGE_COLORS[level]};'
                   f'border:1px solid #555;vertical-align:middle"></span>')
         items.append(f"{swatch} {html.escape(level_name(level))}: {counts[level]}")
