@@ -32,6 +32,7 @@ from ..geometry import discrete as _d
 from ..geometry import validation as _v
 from ..i18n import _, decimal
 from ..mesh.triangles import DIAGONALS, mesh_arrays, triangle_mesh
+from . import export
 
 __all__ = ["ESTIMATORS", "Convergence", "EstimatorTable", "compare_estimators", "convergence", "estimate",
            "mesh_errors", "mesh_size"]
@@ -159,6 +160,24 @@ class EstimatorTable:
                                                              for r in REGIONS))
         return "\n".join(lines)
 
+    def _table(self):
+        """One row per estimator: its four errors (NaN for a missing one, with the reason in ``missing``)."""
+        nan = float("nan")
+        columns = {"estimator": [r["estimator"] for r in self.rows]}
+        for q in ("K", "H"):
+            for region in REGIONS:
+                columns[f"{q}_{region}"] = [float(r.get((q, region), nan)) for r in self.rows]
+        columns["missing"] = [r.get("missing", "") for r in self.rows]
+        unit = _("largest error / largest exact |K| or |κ|")
+        return export.Table(_("errors of the curvature estimators"), columns,
+                            {name: unit for name in columns if name[:2] in ("K_", "H_")},
+                            {"vertices": str(self.vertices), "h": repr(float(self.h)),
+                             "inside": _("at least {margin} of the domain from its boundary").format(
+                                 margin=repr(float(self.margin)))})
+
+    to_csv = export.to_csv
+    to_pandas = export.to_pandas
+
     def __str__(self):
         return self.table()
 
@@ -205,6 +224,23 @@ class Convergence:
             lines.append(f"{n:>4} × {n:<3} {decimal(f'{h:.3g}'):>9}" + "".join(f"{_number(e):>12}" for e in errors))
         lines.append(f"{order:>19}" + "".join(f"{decimal(f'{self.orders[k]:.2f}'):>12}" for k in keys))
         return "\n".join(lines)
+
+    def _table(self):
+        """One row per mesh: n, h and the errors; the fitted orders in the header (``order K_inside: …``)."""
+        keys = list(self.errors)
+        columns = {"n": [int(n) for n in self.sizes], "h": [float(x) for x in self.h]}
+        columns.update({f"{q}_{region}": [float(e) for e in self.errors[q, region]] for q, region in keys})
+        unit = _("largest error / largest exact |K| or |κ|")
+        units = {"h": _("mean edge length"), **{f"{q}_{region}": unit for q, region in keys}}
+        meta = {"surface": self.surface, "estimator": self.estimator, "diagonals": self.diagonals,
+                "noise": repr(float(self.noise)), "fit": _("orders by least squares over the {fit} finest meshes")
+                .format(fit=self.fit)}
+        meta.update({f"order {q}_{region}": repr(float(self.orders.get((q, region), float("nan"))))
+                     for q, region in keys})
+        return export.Table(_("convergence of a curvature estimator"), columns, units, meta)
+
+    to_csv = export.to_csv
+    to_pandas = export.to_pandas
 
     def __str__(self):
         return self.table()

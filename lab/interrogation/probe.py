@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..geometry import validation as _v
+from . import export
 from .faces import as_surface, check_inside, is_face
 
 __all__ = ["Probe", "probe", "probe_lines"]
@@ -37,6 +38,25 @@ class Probe(NamedTuple):
     umbilic: bool
     degenerate: bool
     indicatrix: list
+
+    def _table(self):
+        """The readout as one row: (u, v), the point, the normal, K, H, κ1, κ2, d1, d2, the flags."""
+        from ..i18n import _
+
+        columns = {"u": [float(self.uv[0])], "v": [float(self.uv[1])]}
+        for name, vec in (("", self.point), ("n", self.normal), ("d1", self.d1), ("d2", self.d2)):
+            columns.update({f"{name}{'_' if name else ''}{c}": [float(vec[k])] for k, c in enumerate("xyz")})
+        columns.update({"K": [float(self.K)], "H": [float(self.H)], "k1": [float(self.k1)], "k2": [float(self.k2)],
+                        "umbilic": [bool(self.umbilic)], "degenerate": [bool(self.degenerate)]})
+        length = _("length")
+        units = {"u": _("parameter"), "v": _("parameter"), "x": length, "y": length, "z": length,
+                 "K": f"1/{length}²", "H": f"1/{length}", "k1": f"1/{length}", "k2": f"1/{length}"}
+        units.update({f"{n}_{c}": _("unit vector") for n in ("n", "d1", "d2") for c in "xyz"})
+        return export.Table(_("curvature at a point (probe)"), columns, units,
+                            {"directions": _("d1, d2 NaN at an umbilic")})
+
+    to_csv = export.to_csv
+    to_pandas = export.to_pandas
 
 
 def _indicatrix(point, e1, e2, k1, k2, size, n=181, reach=3.0):

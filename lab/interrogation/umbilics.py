@@ -31,8 +31,9 @@ from ..geometry import validation as _v
 from ..geometry.curvature import unit_normal
 from ..geometry.directions import UMBILIC_RTOL
 from ..model.surface import Surface
+from . import export
 
-__all__ = ["Umbilic", "traceless", "umbilics"]
+__all__ = ["Umbilic", "Umbilics", "traceless", "umbilics"]
 
 #: Points on the circle around an umbilic at which the index and the radial directions are read.
 CIRCLE_POINTS = 720
@@ -80,6 +81,29 @@ class Umbilic:
         return decimal(_("umbilic ({kind}, index {index}) at ({point}), (u, v) = ({uv}), κ = {k}").format(
             kind=_(kinds.get(self.kind, self.kind)), index=f"{self.index:+g}", point=sep.join(map(num, self.point)),
             uv=sep.join(map(num, self.uv)), k=num(self.k)))
+
+
+class Umbilics(list):
+    """The umbilics :func:`umbilics` found: a list of :class:`Umbilic`, which also exports
+    (``to_csv(path)``, ``to_pandas()``: one row per umbilic) and keeps the search's ``rtol``."""
+
+    rtol = UMBILIC_RTOL
+
+    def _table(self):
+        from ..i18n import _
+
+        columns = {"u": [float(p.uv[0]) for p in self], "v": [float(p.uv[1]) for p in self]}
+        columns.update({c: [float(p.point[k]) for p in self] for k, c in enumerate("xyz")})
+        columns.update({"k": [float(p.k) for p in self], "index": [float(p.index) for p in self],
+                        "kind": [p.kind for p in self], "radial": [int(p.radial) for p in self]})
+        length = _("length")
+        units = {"u": _("parameter"), "v": _("parameter"), "x": length, "y": length, "z": length, "k": f"1/{length}",
+                 "index": _("turns of d1 around the point")}
+        return export.Table(_("umbilics"), columns, units, {
+            "tolerance": _("|κ1 − κ2| <= {rtol} x the curvature scale").format(rtol=repr(float(self.rtol)))})
+
+    to_csv = export.to_csv
+    to_pandas = export.to_pandas
 
 
 def traceless(d):
@@ -134,8 +158,8 @@ def umbilics(surface, *, n=64, rtol=UMBILIC_RTOL):
 
     Returns
     -------
-    list of Umbilic
-        Sorted by (u, v).
+    Umbilics
+        A list of :class:`Umbilic` sorted by (u, v), with ``to_csv(path)`` and ``to_pandas()``.
 
     Raises
     ------
@@ -189,7 +213,9 @@ def umbilics(surface, *, n=64, rtol=UMBILIC_RTOL):
             continue
         found.append((x, float(Hx)))
     out = [_classify(surface, x, k) for x, k in found]
-    return sorted(out, key=lambda p: p.uv)
+    found = Umbilics(sorted(out, key=lambda p: p.uv))
+    found.rtol = rtol
+    return found
 
 
 def _unwrap(surface, duv):

@@ -55,6 +55,7 @@ from ...geometry import validation as _v
 from ...geometry.curvature import DegeneratePointWarning, unit_normal
 from ...i18n import _, decimal, language
 from ...model.surface import Surface
+from .. import export
 from .faces import TRIM_SAMPLES, as_surface, check_inside, trim_ends
 from .integrator import _integrate_fan, _solve_one
 from .problem import (
@@ -157,6 +158,19 @@ class Path:
         points = self.surface.evaluate(uv[:, 0], uv[:, 1])
         return uv.reshape(s.shape + (2,)), points.reshape(s.shape + (3,))
 
+    def _table(self):
+        """One row per sample: arc length, (u, v), the point; kind, angle, origin, length and end in the header."""
+        columns = {"s": self.s, "u": self.uv[:, 0], "v": self.uv[:, 1], "x": self.points[:, 0],
+                   "y": self.points[:, 1], "z": self.points[:, 2]}
+        length = _("length")
+        units = {"s": length, "u": _("parameter"), "v": _("parameter"), "x": length, "y": length, "z": length}
+        meta = {"kind": self.kind, "angle": repr(float(self.angle)), "origin": " ".join(map(repr, map(float, self.origin))),
+                "length": repr(self.length), "end": self.end}
+        return export.Table(_("samples of a path on the surface"), columns, units, meta)
+
+    to_csv = export.to_csv
+    to_pandas = export.to_pandas
+
     def __repr__(self):
         end = {"length": _("full length"), "boundary": _("hit the boundary"), "trim": _("left the face"),
                "degenerate": _("stopped at a degenerate point"), "umbilic": _("stopped before an umbilic")}
@@ -209,6 +223,24 @@ class Fan:
     def hit_boundary(self):
         """``(n,)`` bool: which paths stopped at the domain boundary."""
         return np.array([p.hit_boundary for p in self.paths], dtype=bool)
+
+    def _table(self):
+        """One row per path: its start angle, the length it reached, why it ended and its end point."""
+        length = _("length")
+        columns = {"angle": [float(p.angle) for p in self.paths], "length": [p.length for p in self.paths],
+                   "end": [p.end for p in self.paths], "hit_boundary": [bool(p.hit_boundary) for p in self.paths],
+                   "end_u": [float(p.uv[-1, 0]) for p in self.paths], "end_v": [float(p.uv[-1, 1]) for p in self.paths],
+                   "end_x": [float(p.points[-1, 0]) for p in self.paths],
+                   "end_y": [float(p.points[-1, 1]) for p in self.paths],
+                   "end_z": [float(p.points[-1, 2]) for p in self.paths]}
+        units = {"angle": _("radian"), "length": length, "end_u": _("parameter"), "end_v": _("parameter"),
+                 "end_x": length, "end_y": length, "end_z": length}
+        meta = {"kind": self.kind, "origin": " ".join(map(repr, map(float, self.origin))),
+                "requested length": repr(float(self.length))}
+        return export.Table(_("lengths of the paths of a fan"), columns, units, meta)
+
+    to_csv = export.to_csv
+    to_pandas = export.to_pandas
 
     def __repr__(self):
         kinds = {"geodesic": _("geodesics"), "normal-section": _("normal sections")}
