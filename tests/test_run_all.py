@@ -38,8 +38,9 @@ STATED = {
         ("only the first two", r"start \(0.1, 0.5\): (\d+) of 15 curves closed \(s_L = ([^)]*)\)",
          lambda n, which: int(n) == 2 and which == "0.3, 0.6")],
     "11_real_part": [
-        ("made of 32 bicubic Bézier patches", r"Model\((\d+) faces: (\d+) BezierSurface", lambda n, b: int(n) == int(b) == 32),
-        ("a sheet of 99 B-spline faces", r"Model\((\d+) faces: (\d+) BSplineSurface;[^)]* from \S*shell1",
+        ("made of 32 bicubic Bézier patches", r"teapot\.bbp: (\d+) faces \(Bézier surface × (\d+)\)",
+         lambda n, b: int(n) == int(b) == 32),
+        ("a sheet of 99 B-spline faces", r"shell1\.brep: (\d+) faces \(B-spline surface × (\d+)\)",
          lambda n, b: int(n) == int(b) == 99)],
     "13_meshes_and_scans": [
         ("both estimators converge with **order 2**", r"torus, lab, diagonals regular(?s:.*?)order p +(\S+) +(\S+)",
