@@ -59,6 +59,8 @@ from .live import release as _release_view
 from .live import rendering as _rendering
 from .live import show as _show_live
 from .live import update as _update_live
+from .saving import DEFAULT_WIDTH, save_control
+from .saving import save_picture as _save_picture
 from .vision import SceneVision, deficiency, simulate_css, vision_control
 
 __all__ = ["Explorer", "callback_threads", "checkpoint", "fit_labels", "in_jupyter_session", "live_view_choice",
@@ -425,12 +427,12 @@ class Explorer:
             self.plotter.render()
             return np.asarray(self.plotter.screenshot(None, return_img=True))[..., :3]
 
-    def picture(self, size=None):
+    def picture(self, size=None, title=None):
         """The view in the lab's picture style (title, colour bar or legend) as an RGB array."""
         legend = self.legend()
         if legend is not None:
             legend = legend.simulated(deficiency(self.vision))
-        title = self.picture_title()
+        title = self.picture_title() if title is None else title
         frame = style.layout(size or self.window_size, title, legend)
         old = tuple(self.plotter.window_size)
         try:
@@ -443,6 +445,11 @@ class Explorer:
         finally:
             self.plotter.window_size = list(old)
         return style.compose(image, frame, title=title, legend=legend)
+
+    def save_picture(self, path, width=DEFAULT_WIDTH):
+        """Write the current view with colour bar, legend and caption as a PNG ``width`` px wide (see
+        :mod:`lab.view.explorers.saving`); returns ``(path, (width, height))``."""
+        return _save_picture(self, path, width)
 
     def png(self):
         """The current picture (:meth:`picture`) as PNG bytes."""
@@ -476,7 +483,7 @@ class Explorer:
                                                                                        margin="0 1em 0 0")),
                            self.status, self.progress],
                           layout=W.Layout(align_items="center", width="auto", padding="0 0 0 4px"))
-            cells = [*self._controls(), self.vision]
+            cells = [*self._controls(), self.vision, save_control(self)]
             fit_labels(cells)
             controls = W.GridBox(cells, layout=W.Layout(
                 width="100%", grid_template_columns="repeat(auto-fill, minmax(250px, 1fr))",

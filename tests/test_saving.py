@@ -1,0 +1,78 @@
+"""Every explorer's "save picture": a PNG of the current view at the requested size, with its colour bar or legend and
+a caption naming surface, measure, map and range in the lab's language (lab.view.explorers.saving).
+
+One explorer of each kind for the module; the curvature explorer's picture against a stored reference
+(tests/picture_support.py's tolerance)."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from lab.widgets import CurvatureExplorer, FocalExplorer, GeodesicExplorer, ReflectionExplorer
+
+from lab import surfaces
+from lab.i18n import using
+from lab.view.explorers.saving import caption
+from tests.picture_support import assert_like_reference
+
+REFERENCE = Path(__file__).parent / "data" / "explorer_saved_hood_de.png"
+
+
+@pytest.fixture(scope="module")
+def explorers():
+    made = {"curvature": CurvatureExplorer(surfaces.hood(), live=False, depth=2),
+            "focal": FocalExplorer(surfaces.sphere(2.0), scale=0.5, live=False),
+            "geodesic": GeodesicExplorer(surfaces.plane(4.0), start=(0.5, 0.5), n_angles=6, step=0.5, n_curves=2,
+                                         live=False),
+            "reflection": ReflectionExplorer(surfaces.hood(), resolution=32, live=False)}
+    yield made
+    for e in made.values():
+        e.close()
+
+
+def read(path):
+    import imageio.v3 as iio
+    return iio.imread(path)[..., :3]
+
+
+@pytest.mark.parametrize("kind", ["curvature", "focal", "geodesic", "reflection"])
+def test_every_explorer_saves_a_picture_of_the_requested_width(explorers, kind, tmp_path):
+    e = explorers[kind]
+    path, size = e.save_picture(tmp_path / f"{kind}.png", width=640)
+    w, h = e.window_size
+    image = read(path)
+    assert size == (640, round(640 * h / w)) == (image.shape[1], image.shape[0])
+    assert np.any(image[: size[1] // 12] < 128)  # the caption: dark text in the top band
+    box = e.widget.children[1].children[-1]  # the control row: width, file name, button
+    width, name, button = box.children
+    assert width.value == 2400 and button.description == "save picture"
+    width.value, name.value = 500, str(tmp_path / "clicked.png")
+    button.click()
+    assert read(tmp_path / "clicked.png").shape[1] == 500 and "500" in e.status.value
+
+
+def test_the_saved_picture_has_its_colour_bar_and_a_german_caption(explorers, tmp_path):
+    e = explorers["curvature"]
+    e.show_edges.value = True
+    e.toggle_overlays()
+    with using("de"):
+        text = caption(e)
+        path, size = e.save_picture(tmp_path / "hood.png", width=960)
+    assert text.startswith("BSplineSurface: K, ") and "Bereich -2,511 … 1,844" in text, text
+    assert size == (960, 600)
+    image = read(path)
+    bar = image[:, int(0.78 * 960):, :].astype(int)  # the colour bar beside the view: saturated colours
+    assert np.count_nonzero(bar.max(axis=-1) - bar.min(axis=-1) > 150) > 500
+    assert_like_reference(image, REFERENCE, tmp_path)
+
+
+def test_bad_requests_are_refused(explorers, tmp_path):
+    e = explorers["focal"]
+    with pytest.raises(ValueError, match="width"):
+        e.save_picture(tmp_path / "x.png", width=50)
+    with pytest.raises(ValueError, match=".png"):
+        e.save_picture(tmp_path / "x.jpg")
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        e.save_picture(tmp_path / "no" / "x.png")
+    with pytest.raises(TypeError, match="file name"):
+        e.save_picture(None)
