@@ -509,3 +509,9 @@ def deviation_legend(tolerance, color_map="graded", vmax=None, *, unscanned=Fals
         note += "; " + _("grey: not scanned")
     return Legend(title=_("signed distance to the part  [length]"), stops=tuple(stops), ticks=ticks,
                   clim=(-top, top), note=note, levels=(lo, hi))
+
+
+def simulated_note(legend, deficiency):
+    """``legend`` with a note that the picture is simulated for ``deficiency`` (:func:`lab.vision.simulate`)."""
+    said = _("seen with {deficiency} (simulated)").format(deficiency=_(vision.NAMES[deficiency]))
+    return dataclasses.replace(legend, note=f"{legend.note}\n{said}" if legend.note else said)

@@ -43,7 +43,7 @@ from ..interrogation.faces import is_model
 from ..interrogation.reflection import VIEW_DIRECTION
 from ..model.patches import BezierPatches
 from . import style
-from .legend import Legend, stored_legend
+from .legend import Legend, simulated_note, stored_legend
 from .legend import legend as make_legend
 
 __all__ = [
@@ -324,25 +324,6 @@ def _window(size, name="window_size"):
     return w, h
 
 
-def _add_marks(plotter, points, height, ring=15, dot=8):
-    """Points as white dots in black rings (seen on every colour of every map), after the camera is set: the dots are
-    moved towards the eye by a ring's radius so that they lie in front of their own ring, yet behind the surface
-    where the point is on its far side."""
-    cam = plotter.camera
-    eye = np.asarray(cam.position, dtype=float)
-    towards = eye - points
-    distance = np.linalg.norm(towards, axis=1, keepdims=True)
-    if cam.parallel_projection:
-        pixel = 2.0 * cam.parallel_scale / height
-    else:
-        pixel = distance * 2.0 * np.tan(np.radians(cam.view_angle) / 2) / height
-    for colour, size, shift in (("black", ring, 0.0), ("white", dot, ring / 2)):
-        actor = plotter.add_points(points + towards / distance * pixel * shift, color=colour, point_size=size,
-                                   render_points_as_spheres=True, lighting=False, reset_camera=False)
-        actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
-        actor.mapper.SetRelativeCoincidentTopologyPointOffsetParameter(style.LINE_OFFSET_UNITS)
-
-
 def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None, camera=None, background="white",
                 shading="smooth", borders=None, marks=None):
     """The bare 3D view of ``mesh`` in the lab's style (no frame), ``size`` = (width, height); RGB array.
@@ -377,8 +358,8 @@ def render_view(mesh, size, *, edges=False, net=None, lines=None, direction=None
         azimuth, elevation = camera if camera is not None else (None, None)
         fit_to = mesh if net is None else mesh.merge(pv.PolyData(net[1])) if mesh.n_points else pv.PolyData(net[1])
         style.fit_camera(plotter, fit_to, direction, azimuth=azimuth, elevation=elevation)
-        if marks is not None and len(marks):
-            _add_marks(plotter, np.asarray(marks, dtype=float).reshape(-1, 3), size[1])
+        if marks is not None:
+            style.add_marks(plotter, marks, size[1])
         return np.asarray(plotter.screenshot(None, return_img=True))[..., :3]
     finally:
         plotter.close()
@@ -473,30 +454,15 @@ def picture(obj, curvature=None, color_map=None, *, window_size=(800, 600), edge
     else:
         chosen = None
     if simulate and chosen is not None:  # the picture says what it shows
-        chosen = _simulated_note(chosen, simulate)
+        chosen = simulated_note(chosen, simulate)
     frame = style.layout(_window(window_size), title, chosen)
     net_data = _net_lines(obj) if net and hasattr(obj, "control_points") else None
     borders = face_borders(mesh) if edges else None
     if borders is not None and borders.n_points:
         edges = False  # a model's triangles mean nothing: its faces' borders instead
-    if marks is not None:
-        marks = np.asarray(marks, dtype=float)
-        if marks.size and (marks.ndim not in (1, 2) or marks.shape[-1] != 3 or not np.all(np.isfinite(marks))):
-            raise ValueError(f"marks must be finite points of shape (n, 3); got shape {marks.shape}")
     view = render_view(mesh, frame.view[2:], edges=edges, net=net_data, lines=lines, direction=direction,
                        camera=camera, shading=shading, borders=borders, marks=marks)
     return vision.simulate_image(style.compose(view, frame, title=title, legend=chosen), simulate)
-
-
-def _simulated_note(legend, deficiency):
-    """``legend`` with a note that the picture is simulated for ``deficiency``."""
-    import dataclasses
-
-    from ..geometry.vision import NAMES
-    from ..i18n import _
-
-    said = _("seen with {deficiency} (simulated)").format(deficiency=_(NAMES[deficiency]))
-    return dataclasses.replace(legend, note=f"{legend.note}\n{said}" if legend.note else said)
 
 
 def _with_band_lines(mesh, known, curvature, color_map, lines):
@@ -560,9 +526,7 @@ def show_row(objects, titles=None, *, window_size=(1200, 420), **options):
     objects = list(objects)
     if not objects:
         raise ValueError("show_row needs at least one object to show; got none")
-    titles = list(titles) if titles is not None else [None] * len(objects)
-    if len(titles) != len(objects):
-        raise ValueError(f"titles must give one title per object ({len(objects)}); got {len(titles)}")
+    titles = _per_object(titles, len(objects), "titles must give one title per object ({n}); got {got}")
     width = int(window_size[0]) // len(objects)
     if options.get("direction") is None and options.get("camera") is None:
         meshes = [o for o in objects if isinstance(o, pv.PolyData)]
@@ -572,18 +536,20 @@ def show_row(objects, titles=None, *, window_size=(1200, 420), **options):
             first = (pv.PolyData(np.asarray(objects[0].control_points, dtype=float).reshape(-1, 3))
                      if isinstance(objects[0], BezierPatches) else _as_mesh(objects[0], None, None, 1, 16)[0])
             options["direction"] = style.view_direction(first, None, None, width / int(window_size[1]))
-    maps = options.pop("color_map", None)
-    maps = list(maps) if isinstance(maps, (list, tuple)) else [maps] * len(objects)
-    if len(maps) != len(objects):
-        raise ValueError(f"color_map must be one map or one per object ({len(objects)}); got {len(maps)}")
-    lines = options.pop("lines", None)
-    lines = list(lines) if isinstance(lines, (list, tuple)) else [lines] * len(objects)
-    if len(lines) != len(objects):
-        raise ValueError(f"lines must be one PolyData or one per object ({len(objects)}); got {len(lines)}")
+    maps, lines = (_per_object(options.pop(key, None), len(objects), key + " must be one or one per object ({n}); got {got}")
+                   for key in ("color_map", "lines"))
     parts = [picture(obj, window_size=(width, int(window_size[1])), title=title, color_map=cmap, lines=drawn,
                      **options)
              for obj, title, cmap, drawn in zip(objects, titles, maps, lines)]
     return _image(np.hstack(parts))
+
+
+def _per_object(value, n, message):
+    """``value`` for each of ``n`` pictures: a list or tuple of one per picture, anything else for all."""
+    values = list(value) if isinstance(value, (list, tuple)) else [value] * n
+    if len(values) != n:
+        raise ValueError(message.format(n=n, got=len(values)))
+    return values
 
 
 def screenshot(mesh, path, *, window_size=(1024, 768), show_edges=False, title=None):

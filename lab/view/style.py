@@ -313,3 +313,28 @@ def compose(image, frame, *, title=None, legend=None):
     canvas.draw()
     out = np.asarray(canvas.buffer_rgba())[..., :3].copy()
     return out
+
+
+def add_marks(plotter, points, height, ring=15, dot=8):
+    """Points as white dots in black rings (seen on every colour of every map), after the camera is set: the dots are
+    moved towards the eye by a ring's radius so that they lie in front of their own ring, yet behind the surface
+    where the point is on its far side."""
+    points = np.asarray(points, dtype=float)
+    if points.size and (points.ndim not in (1, 2) or points.shape[-1] != 3 or not np.all(np.isfinite(points))):
+        raise ValueError(f"marks must be finite points of shape (n, 3); got shape {points.shape}")
+    if not points.size:
+        return
+    points = points.reshape(-1, 3)
+    cam = plotter.camera
+    eye = np.asarray(cam.position, dtype=float)
+    towards = eye - points
+    distance = np.linalg.norm(towards, axis=1, keepdims=True)
+    if cam.parallel_projection:
+        pixel = 2.0 * cam.parallel_scale / height
+    else:
+        pixel = distance * 2.0 * np.tan(np.radians(cam.view_angle) / 2) / height
+    for colour, size, shift in (("black", ring, 0.0), ("white", dot, ring / 2)):
+        actor = plotter.add_points(points + towards / distance * pixel * shift, color=colour, point_size=size,
+                                   render_points_as_spheres=True, lighting=False, reset_camera=False)
+        actor.mapper.SetResolveCoincidentTopologyToPolygonOffset()
+        actor.mapper.SetRelativeCoincidentTopologyPointOffsetParameter(LINE_OFFSET_UNITS)
