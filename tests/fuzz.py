@@ -29,7 +29,6 @@ def fuzz(target, examples, seed=None):
         times.append(out.seconds)
 
     if seed is not None:
-        one = settings(one._hypothesis_internal_use_settings)(one)
         from hypothesis import seed as with_seed
 
         one = with_seed(seed)(one)

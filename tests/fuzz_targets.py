@@ -490,9 +490,11 @@ def _line_of_curvature(surface, start, which, length):
 
 
 def _min_radius(k1, k2):
-    """lab.min_radius, whose ``inf`` at flat points (κ1 = κ2 = 0) is the documented answer, not garbage (NaN is)."""
+    """lab.min_radius, whose ``inf`` at flat points (κ1 = κ2 = 0) is the documented answer, not garbage; NaN is
+    garbage unless a given curvature was NaN there (a degenerate point, flagged by whoever computed it)."""
     r = lab.min_radius(k1, k2)
-    return np.where(np.isposinf(r), 0.0, r)
+    given_nan = np.isnan(np.asarray(k1, float)) | np.isnan(np.asarray(k2, float))
+    return np.where(np.isposinf(r) | given_nan, 0.0, r)
 
 
 def _from_sympy(xyz, domain):

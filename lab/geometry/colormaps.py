@@ -216,7 +216,8 @@ def symmetric(x, vmax=None):
     m = np.max(np.abs(x)) if vmax is None else as_number(vmax, "vmax", minimum=0)
     if m <= 0:
         return np.full(x.shape, 0.5)
-    return np.clip(0.5 + 0.5 * x / m, 0.0, 1.0)
+    with np.errstate(over="ignore"):  # |x| / m beyond the float range (a tiny vmax): clipped to the ends
+        return np.clip(0.5 + 0.5 * x / m, 0.0, 1.0)
 
 
 def percentile(x, lower=2.0, upper=98.0, *, vmin=None, vmax=None):
@@ -257,7 +258,7 @@ def signed_log(x, scale=None, vmax=None):
     M = (np.max(a) if a.size else 0.0) if vmax is None else as_number(vmax, "vmax", minimum=0)
     if M <= 0:
         return np.full(x.shape, 0.5)
-    s = float(np.median(a)) if scale is None else as_number(scale, "scale", minimum=0)
+    s = 2 * float(np.median(a / 2)) if scale is None else as_number(scale, "scale", minimum=0)  # halves: no overflow
     if s <= 0:
         s = M * 1e-3
     # log1p(a / s) = log(s + a) - log(s) without the overflow of a / s (a near the float limit, s tiny)

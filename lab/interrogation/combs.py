@@ -45,14 +45,6 @@ class Comb(NamedTuple):
     scale: float
 
 
-def _check_surface(surface):
-    from ..model.surface import Surface
-
-    if not isinstance(surface, Surface):
-        raise TypeError(f"surface must be a lab surface (Bézier, B-spline, parametric; for patches: a surface's "
-                        f"to_bezier_patches() came from it); got {type(surface).__name__}")
-
-
 def _kn(surface, uv, duv):
     d = surface.derivatives(uv[:, 0], uv[:, 1])
     forms = fundamental_forms(d)
@@ -78,7 +70,7 @@ def comb(surface, uv, *, scale=1.0, tangent=None, tol=1e-12):
     tol : float
         Inflection search: bisection down to ``tol`` of the segment.
     """
-    _check_surface(surface)
+    _v.check_surface(surface)
     uv = _v.as_array(uv, "uv", finite=False)
     if uv.ndim != 2 or uv.shape[1] != 2 or len(uv) < 2:
         raise ValueError(f"uv must have shape (k, 2) with k >= 2; got {uv.shape}")
@@ -115,10 +107,11 @@ def comb(surface, uv, *, scale=1.0, tangent=None, tol=1e-12):
 
 def iso_comb(surface, direction, value, *, density=64, scale=1.0):
     """The comb along the iso-parametric curve ``direction = value``: ``"u"`` holds u fixed (v runs), ``"v"`` holds v."""
-    _check_surface(surface)
+    _v.check_surface(surface)
     if not isinstance(direction, str) or direction not in ("u", "v"):
         raise ValueError(f"direction must be 'u' (u fixed, v runs) or 'v' (v fixed, u runs); got {direction!r}")
     density = int(_v.as_number(density, "density", minimum=2))
+    _v.check_memory(COMB_BYTES_PER_TOOTH * density, f"a comb of {_v.format_count(density)} teeth")
     (u0, u1), (v0, v1) = surface.domain
     value = _v.as_number(value, "value")
     lo, hi = (u0, u1) if direction == "u" else (v0, v1)
@@ -146,6 +139,7 @@ def border_combs(surface, *, density=64, scale=1.0, count=0):
     normal where the curve bends towards it; a reversed face flips N and κn together, so the teeth stay.
     """
     surface, trim = as_surface(surface)
+    _v.check_surface(surface)
     count = int(_v.as_number(count, "count", minimum=0, maximum=MAX_COMB_COUNT))
     density = int(_v.as_number(density, "density", minimum=2))
     teeth = 2 * (count + 2) * density

@@ -61,7 +61,7 @@ def min_radius(k1, k2):
     r""":math:`1/\max(|\kappa_1|, |\kappa_2|)`: the smallest radius of curvature (``inf`` at flat points)."""
     k1, k2 = _v.as_broadcast_arrays(k1=k1, k2=k2)
     m = np.maximum(np.abs(k1), np.abs(k2))
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):  # flat (or flatter than 1/1.8e308): inf
         return 1.0 / m
 
 

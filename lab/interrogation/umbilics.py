@@ -182,7 +182,8 @@ def umbilics(surface, *, n=64, rtol=UMBILIC_RTOL):
     uu = np.unique(np.concatenate([np.linspace(a, b, n + 1) for a, b in su]))
     vv = np.unique(np.concatenate([np.linspace(a, b, n + 1) for a, b in sv]))
     z, _, scale = _z_at(surface, uu[:, None], vv[None, :])
-    m = np.abs(z) / scale
+    with np.errstate(invalid="ignore", divide="ignore"):  # degenerate points: NaN, left out below
+        m = np.abs(z) / scale
     finite = np.isfinite(m)
     if np.mean(finite & (m <= rtol)) > 0.5:
         raise ValueError("the surface is umbilic on a whole region (κ1 = κ2 at most sample points, as on a sphere "

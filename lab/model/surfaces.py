@@ -51,6 +51,9 @@ def practical_height(x, y):
         raise ValueError(f"x and y must broadcast against each other; got shapes {x.shape} and {y.shape}") from None
     check_memory(8.0 * 4 * math.prod(shape), f"practical_height at {format_count(math.prod(shape))} points")
     x, y = as_array(x, "x"), as_array(y, "y")
+    for name, t in (("x", x), ("y", y)):
+        if t.size and max(-t.min(), t.max()) > COORDINATE_MAX:  # x² would overflow
+            raise ValueError(f"{name} must lie within ±{COORDINATE_MAX:g}; got values up to {max(-t.min(), t.max()):.3g}")
     if not shape:
         x, y = float(x), float(y)
     return x**2 / 5 + x * y / 4 + 10 / (1 + x**2 + y**2) + y / 2

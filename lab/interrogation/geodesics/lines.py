@@ -48,8 +48,8 @@ class UmbilicWarning(RuntimeWarning):
 
 
 def _which(which):
-    key = {1: "k1", 2: "k2", "1": "k1", "2": "k2", "k1": "k1", "k2": "k2"}.get(which if not isinstance(which, bool)
-                                                                              else None)
+    key = {1: "k1", 2: "k2", "1": "k1", "2": "k2", "k1": "k1", "k2": "k2"}.get(
+        which if isinstance(which, (int, str)) and not isinstance(which, bool) else None)
     if key is None:
         raise ValueError(f"which must be 'k1' or 'k2' (the principal curvature whose direction the line follows); "
                          f"got {which!r}")

@@ -34,7 +34,7 @@ class TrimmedSurface:
 
     def __init__(self, surface, outer=None, holes=(), tol=None):
         for attr in ("domain", "derivatives", "curvature"):
-            if not hasattr(surface, attr):
+            if not hasattr(surface, attr) or isinstance(surface, type):
                 raise TypeError(f"surface must be a lab.Surface (with domain, derivatives, curvature); got {surface!r}")
         self.surface = surface
         self.domain = tuple(tuple(float(x) for x in pair) for pair in surface.domain)
