@@ -219,7 +219,8 @@ class Frame:
         self.font = max(8.0, 12.5 * min(W / 1024, H / 768) ** 0.7)
         px = self.font * 100 / 72
         pad = round(0.02 * min(W, H)) + 2
-        title_h = round(self.font * 2.6) if title else 0
+        lines = title.count("\n") + 1 if title else 0  # a long caption wrapped: each more line 1.9 font high
+        title_h = round(self.font * (2.6 + 1.9 * (lines - 1))) if title else 0
         if legend is None:
             legend_w = 0
         else:

@@ -251,6 +251,13 @@ class ReflectionExplorer(Explorer):
         self.overlay = new
         self.refresh()
 
+    def picture_title(self):
+        """What the picture shows: stripes, light lines or isophotes, how many, and the light's direction."""
+        kinds = {v: k for k, v in self.kind.options}
+        return decimal(_("{kind}, {count}, light {azimuth}° / {elevation}°").format(
+            kind=kinds.get(self.kind.value, self.kind.value), count=self.count.value,
+            azimuth=f"{self.azimuth.value:g}", elevation=f"{self.elevation.value:g}"))
+
 
 class GeodesicExplorer(Explorer):
     """Fans of geodesics or normal sections from a point and their polar isodistance curves (Puig-Pey et al.).

@@ -5,12 +5,16 @@ bar or legend, as the colour-vision control shows it), drawn at the chosen size 
 kept) with a caption naming the surface, the measure, the colour map and the range of values, in the lab's language.
 """
 
+import html
 import os
+import re
 
 import ipywidgets as W
 
 from ...i18n import _, decimal
+from .. import style
 from .controls import _layout, style_for
+from .edges import edge_legend_html
 
 __all__ = ["caption", "save_control", "save_picture"]
 
@@ -20,8 +24,17 @@ DEFAULT_WIDTH = 2400
 WIDTHS = (200, 8000)
 
 
+def _plain(markup):
+    """The text of a legend's HTML on one line."""
+    markup = re.sub(r"</?(sub|sup|i|b|em)>", "", markup)  # inline: s<sub>L</sub> stays sL
+    text = html.unescape(re.sub(r"<[^>]+>", " ", markup)).replace(" \xa0 ", ", ").replace("━", " ")
+    return " ".join(text.split())
+
+
 def caption(explorer):
-    """The picture's caption: the surface's name, the explorer's title (measure, map, …) and the colour range."""
+    """The picture's caption: the surface's name, the explorer's title (measure, map, …) and the colour range; an
+    explorer without a colour bar adds its legend's text (the geodesics' line kinds), and a shown edge overlay the
+    number of edges of each level."""
     source = getattr(explorer, "source", None)
     name = getattr(source, "name", None) or type(source).__name__
     text = _("{surface}: {title}").format(surface=name, title=explorer.picture_title())
@@ -29,7 +42,25 @@ def caption(explorer):
     clim = getattr(legend, "clim", None)
     if clim is not None:
         text += decimal(_("; range {lo} … {hi}").format(lo=f"{clim[0]:.4g}", hi=f"{clim[1]:.4g}"))
+    elif legend is None and _plain(explorer.legend_html()):
+        text += "; " + _plain(explorer.legend_html())
+    edges = getattr(explorer, "edges", None)
+    if getattr(getattr(explorer, "show_edges", None), "value", False) and getattr(edges, "report", None) is not None:
+        text += "; " + _plain(edge_legend_html(edges.report))
     return text
+
+
+def wrap(text, size):
+    """``text`` broken at its "; " into lines that fit a picture of ``size`` (the title's font, :class:`style.Frame`)."""
+    frame = style.Frame(size, text, None)
+    room = frame.title[2]
+    lines = []
+    for part in text.split("; "):
+        if lines and style._text_width(f"{lines[-1]}; {part}", frame.font * 1.25) <= room:
+            lines[-1] = f"{lines[-1]}; {part}"
+        else:
+            lines.append(part)
+    return "\n".join(lines)
 
 
 def save_picture(explorer, path, width=DEFAULT_WIDTH):
@@ -49,7 +80,7 @@ def save_picture(explorer, path, width=DEFAULT_WIDTH):
         raise FileNotFoundError(f"{path}: the folder {folder} does not exist")
     w, h = explorer.window_size
     size = (width, max(1, round(width * h / w)))
-    image = explorer.picture(size, title=caption(explorer))
+    image = explorer.picture(size, title=wrap(caption(explorer), size))
     Image.fromarray(image).save(path, format="PNG")
     return path, (image.shape[1], image.shape[0])
 
