@@ -9,6 +9,7 @@ one-sided pieces: across G2 they turn by less than KINK_G2 degrees where they me
 its nearest end on the other side lies more than GAP_G0 away (the sheet is 3 wide)."""
 
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -229,3 +230,20 @@ def test_combs_on_a_face_are_scaled_to_it_and_the_probe_is_marked():
     t.update_lines()
     assert t.mark_actor is None
     ex.close()
+
+
+def test_generated_and_marking_notebooks_carry_the_kernels_metadata(tmp_path):
+    """What JupyterLab writes on opening (ipykernel's spec and language_info): the notebooks open unmodified
+    (tests/test_browser.py opens one)."""
+    import json
+    import sys
+
+    from lab.teaching.course.exercises import KERNELSPEC
+    from lab.teaching.course.mark import _notebook
+
+    version = sys.version.split()[0]
+    marking = _notebook(tmp_path, "04_color_maps", "en")
+    assert marking.metadata["kernelspec"] == KERNELSPEC and marking.metadata["language_info"]["version"] == version
+    generated = json.loads((Path(__file__).parent.parent / "solutions" / "de" / "12_how_smooth.ipynb").read_text())
+    assert generated["metadata"]["kernelspec"] == KERNELSPEC
+    assert generated["metadata"]["language_info"]["file_extension"] == ".py"  # the kernel's whole record

@@ -333,10 +333,10 @@ def _notebook(folder, assignment, lang, students=None):
     share = f", students={str(Path(students).resolve())!r}" if students else ""
     code = (f"import lab\nlab.set_language({lang!r})\n"
             f"lab.mark({str(Path(folder).resolve())!r}, {assignment!r}{share})")
-    nb = nbformat.v4.new_notebook(metadata={
-        "kernelspec": {"display_name": "Python 3 (curvature-lab)", "language": "python", "name": "python3"},
-        "language_info": {"name": "python"},
-        "lab": {"role": "marking", "assignment": assignment, "lang": lang}})
+    from .exercises import kernel_metadata  # what JupyterLab writes on opening: the notebook opens unmodified
+
+    nb = nbformat.v4.new_notebook(metadata={**kernel_metadata(),
+                                            "lab": {"role": "marking", "assignment": assignment, "lang": lang}})
     nb.cells = [nbformat.v4.new_markdown_cell(_("# Marking: {id}\n\nRun the cell (Shift+Enter). Every mark is saved "
                                                 "at once into written-{id}.csv.").format(id=assignment)),
                 nbformat.v4.new_code_cell(code)]
