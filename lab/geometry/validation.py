@@ -24,7 +24,6 @@ __all__ = [
     "as_weights",
     "available_memory",
     "check_memory",
-    "check_surface",
     "choice_name",
     "format_bytes",
     "format_count",
@@ -83,17 +82,6 @@ def as_broadcast_arrays(**arrays):
     except ValueError:
         shapes = ", ".join(f"{name} {a.shape}" for name, a in found.items())
         raise ValueError(f"{' and '.join(found)} must broadcast against each other; got shapes {shapes}") from None
-
-
-def check_surface(surface, name="surface"):
-    """Refuse anything but a lab surface (Bézier, B-spline, parametric, …) with a ``TypeError`` naming it."""
-    from ..model.surface import Surface  # the model imports this module
-
-    if not isinstance(surface, Surface):
-        hint = " (patches: pass the surface they came from)" if type(surface).__name__ == "BezierPatches" else ""
-        raise TypeError(f"{name} must be a lab surface (Bézier, B-spline, parametric){hint}; got "
-                        f"{type(surface).__name__} {_short(surface, 60)}")
-    return surface
 
 
 def as_control_net(P, name="control net", batch=False, dim=3):

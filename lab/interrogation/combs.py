@@ -22,7 +22,7 @@ import numpy as np
 
 from ..geometry import validation as _v
 from ..geometry.curvature import fundamental_forms
-from .faces import as_surface
+from .faces import as_surface, check_surface
 
 __all__ = ["Comb", "border_combs", "comb", "comb_lines", "iso_comb"]
 
@@ -70,7 +70,7 @@ def comb(surface, uv, *, scale=1.0, tangent=None, tol=1e-12):
     tol : float
         Inflection search: bisection down to ``tol`` of the segment.
     """
-    _v.check_surface(surface)
+    check_surface(surface)
     uv = _v.as_array(uv, "uv", finite=False)
     if uv.ndim != 2 or uv.shape[1] != 2 or len(uv) < 2:
         raise ValueError(f"uv must have shape (k, 2) with k >= 2; got {uv.shape}")
@@ -107,7 +107,7 @@ def comb(surface, uv, *, scale=1.0, tangent=None, tol=1e-12):
 
 def iso_comb(surface, direction, value, *, density=64, scale=1.0):
     """The comb along the iso-parametric curve ``direction = value``: ``"u"`` holds u fixed (v runs), ``"v"`` holds v."""
-    _v.check_surface(surface)
+    check_surface(surface)
     if not isinstance(direction, str) or direction not in ("u", "v"):
         raise ValueError(f"direction must be 'u' (u fixed, v runs) or 'v' (v fixed, u runs); got {direction!r}")
     density = int(_v.as_number(density, "density", minimum=2))
@@ -139,7 +139,7 @@ def border_combs(surface, *, density=64, scale=1.0, count=0):
     normal where the curve bends towards it; a reversed face flips N and κn together, so the teeth stay.
     """
     surface, trim = as_surface(surface)
-    _v.check_surface(surface)
+    check_surface(surface)
     count = int(_v.as_number(count, "count", minimum=0, maximum=MAX_COMB_COUNT))
     density = int(_v.as_number(density, "density", minimum=2))
     teeth = 2 * (count + 2) * density

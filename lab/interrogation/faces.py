@@ -11,7 +11,7 @@ import numpy as np
 
 from ..mesh.levels import join_polylines
 
-__all__ = ["COLLAPSE_RTOL", "JOIN_RTOL", "as_surface", "check_inside", "collapsed_sides", "face_surface", "fill_normals",
+__all__ = ["COLLAPSE_RTOL", "JOIN_RTOL", "as_surface", "check_inside", "check_surface", "collapsed_sides", "face_surface", "fill_normals",
            "is_face", "is_model", "join_tol", "joined", "on_collapsed_side"]
 
 #: Level lines of neighbouring faces of a model are joined where their ends lie closer than this times the
@@ -77,6 +77,17 @@ def face_surface(face):
 
     The one place that says which surface a face is evaluated on."""
     return getattr(face, "file_surface", None) or face.surface
+
+
+def check_surface(surface, name="surface"):
+    """Refuse anything but a lab surface (Bézier, B-spline, parametric, …) with a ``TypeError`` naming it."""
+    from ..model.surface import Surface
+
+    if not isinstance(surface, Surface):
+        hint = " (patches: pass the surface they came from)" if type(surface).__name__ == "BezierPatches" else ""
+        text = repr(surface) if isinstance(surface, (int, float, str, type(None))) else type(surface).__name__
+        raise TypeError(f"{name} must be a lab surface (Bézier, B-spline, parametric){hint}; got {text[:60]}")
+    return surface
 
 
 def as_surface(obj):

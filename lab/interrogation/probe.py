@@ -16,7 +16,7 @@ import numpy as np
 
 from ..geometry import validation as _v
 from . import export
-from .faces import as_surface, check_inside, is_face
+from .faces import as_surface, check_inside, check_surface, is_face
 
 __all__ = ["Probe", "probe", "probe_lines"]
 
@@ -105,7 +105,7 @@ def probe(surface, u, v, *, size=None):
     """
     reverse = bool(getattr(surface, "reversed", False)) if is_face(surface) else False
     surface, trim = as_surface(surface)
-    _v.check_surface(surface)
+    check_surface(surface)
     (u0, u1), (v0, v1) = surface.domain
     u, v = _v.as_number(u, "u"), _v.as_number(v, "v")
     if not (u0 <= u <= u1 and v0 <= v <= v1):

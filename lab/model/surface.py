@@ -20,6 +20,7 @@ from ..geometry import validation as _v
 from ..geometry.derivatives import Derivatives
 from ..geometry.grids import Seams
 from ..i18n import _
+from .checks import checked_derivatives, map_values
 from .patches import BezierPatches
 
 __all__ = ["BSplineSurface", "BezierSurface", "ParametricSurface", "ReparametrizedSurface", "Surface"]
@@ -413,32 +414,6 @@ class BSplineSurface(_SplineSurface):
             kind=kind, nu=nu, nv=nv, degree=self.degree))
 
 
-def _checked_derivatives(d, shape, name):
-    """What a user's ``derivatives(u, v)`` returned, checked: six float arrays of shape ``shape + (3,)``."""
-    wanted = f"a Derivatives of six arrays of shape {shape + (3,)} (b, bu, bv, buu, buv, bvv)"
-    if not isinstance(d, tuple) or len(d) != 6:
-        raise TypeError(f"{name}: derivatives(u, v) must return {wanted}; got {type(d).__name__} "
-                        f"{_v._short(d, 60)}")
-    fields = []
-    for field_name, x in zip(Derivatives._fields, d):
-        try:
-            arr = np.asarray(x)
-            ok = arr.dtype.kind in "biuf"
-        except (TypeError, ValueError):
-            ok = False
-        if not ok:
-            raise TypeError(f"{name}: derivatives(u, v) must return {wanted}; its {field_name} is "
-                            f"{type(x).__name__} {_v._short(x, 60)}")
-        if arr.shape != shape + (3,):
-            try:
-                arr = np.broadcast_to(arr, shape + (3,))
-            except ValueError:
-                raise ValueError(f"{name}: derivatives(u, v) must return {wanted}; its {field_name} has shape "
-                                 f"{arr.shape}") from None
-        fields.append(arr.astype(float, copy=False))
-    return Derivatives(*fields)
-
-
 class ParametricSurface(Surface):
     """A surface given by a function that returns its derivatives.
 
@@ -498,8 +473,7 @@ class ParametricSurface(Surface):
                              f"{', '.join(free)}: substitute a number for each (expr.subs({free[0]}, 1))")
         undefined = sorted(map(str, X.atoms(sp.core.function.AppliedUndef)))
         if undefined:
-            raise ValueError(f"xyz must be explicit expressions in {u} and {v}; got the undefined function(s) "
-                             f"{', '.join(undefined)}")
+            raise ValueError(f"xyz must be explicit expressions in {u} and {v}; got undefined {', '.join(undefined)}")
         exprs = [X, X.diff(u), X.diff(v), X.diff(u, 2), X.diff(u).diff(v), X.diff(v, 2)]
         funcs = [sp.lambdify((u, v), list(e), modules="numpy") for e in exprs]
 
@@ -522,7 +496,7 @@ class ParametricSurface(Surface):
         return surface
 
     def _derivatives(self, u, v):
-        d = _checked_derivatives(self._func(u, v), np.shape(u), self.name)
+        d = checked_derivatives(self._func(u, v), np.shape(u), self.name)
         with np.errstate(invalid="ignore"):  # NaN compares False: not usable
             usable = np.all(np.abs(np.concatenate(d, axis=-1)) <= _v.COORDINATE_MAX, axis=-1)
         if not np.all(usable):
@@ -542,26 +516,6 @@ class ParametricSurface(Surface):
 
     def __repr__(self):
         return f"ParametricSurface({self.name}, domain={self.domain})"
-
-
-def _map_values(func, t, name):
-    """``func(t)`` of a reparametrisation checked: three float arrays (s, ds, d2s) of the shape of ``t``, finite."""
-    t = np.asarray(t, dtype=float)
-    out = func(t)
-    wanted = f"(s, ds, d2s), three arrays of shape {t.shape}"
-    if not isinstance(out, (tuple, list)) or len(out) != 3:
-        raise TypeError(f"{name}(t) must return {wanted}; got {type(out).__name__} {_v._short(out, 60)}")
-    values = []
-    for part, x in zip(("s", "ds", "d2s"), out):
-        arr = _v.as_array(x, f"{name}(t)'s {part}", finite=False)
-        try:
-            arr = np.broadcast_to(arr, t.shape)
-        except ValueError:
-            raise ValueError(f"{name}(t) must return {wanted}; its {part} has shape {arr.shape}") from None
-        values.append(arr)
-    if t.size and not np.all(np.isfinite(values[0])):
-        raise ValueError(f"{name}(t) must return finite parameters s; got NaN or inf")
-    return tuple(values)
 
 
 class ReparametrizedSurface(Surface):
@@ -610,11 +564,11 @@ class ReparametrizedSurface(Surface):
                            D.bvv * dv * dv + D.bv * ddv)
 
     def _point_derivatives(self, u, v, work=None):
-        su, sv = _map_values(self.maps[0], u, "map_u"), _map_values(self.maps[1], v, "map_v")
+        su, sv = map_values(self.maps[0], u, "map_u"), map_values(self.maps[1], v, "map_v")
         return self._chain(self.base._point_derivatives(su[0], sv[0], work), su, sv)
 
     def _grid_blocks(self, u, v):
-        su, sv = _map_values(self.maps[0], u, "map_u"), _map_values(self.maps[1], v, "map_v")
+        su, sv = map_values(self.maps[0], u, "map_u"), map_values(self.maps[1], v, "map_v")
         for rows, cols, D in self.base._grid_blocks(su[0], sv[0]):
             yield rows, cols, self._chain(D, tuple(x[rows][:, None] for x in su), tuple(x[cols][None, :] for x in sv))
 

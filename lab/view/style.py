@@ -137,6 +137,8 @@ def view_direction(mesh, azimuth=None, elevation=None, aspect=4 / 3):
         best = (DEFAULT_VIEW[0] if azimuth is None else azimuth, DEFAULT_VIEW[1] if elevation is None else elevation)
         return _direction(*best)
     top = max(scores.values())
+    if not top > 0:  # a surface of zero area (one point): every view is as good, the default one
+        return _direction(*DEFAULT_VIEW)
     good = [c for c in scores if scores[c] >= 0.95 * top]
     best = min(good, key=lambda c: (abs(c[1] - PREFERRED_ELEVATION), -round(scores[c] / top, 2), _CANDIDATES.index(c)))
     return _direction(*best)

@@ -8,6 +8,7 @@ import pyvista as pv
 
 from ... import mesh as _mesh
 from ...geometry import colormaps, palettes
+from ...geometry import validation as _v
 from ...geometry.curvature import Curvature, CurvatureMode, curvature_values, zero_tolerance
 from ...i18n import N_, _, parse_number
 from ...model.patches import BezierPatches
@@ -143,6 +144,8 @@ class CurvatureExplorer(Explorer):
             raise TypeError("a model's faces are not one collection of Bézier patches: no visualize_curvature to show")
         if patches_class is not None and base is None:
             raise TypeError(f"{type(surface).__name__} is not made of Bézier patches: no visualize_curvature to show")
+        depth = _v.as_positive_int(depth, "depth")
+        max_depth = _v.as_positive_int(max_depth, "max_depth")
         super().__init__(window_size=window_size, live=live, backend=backend)
         self.student = patches_class
         self._base = base
