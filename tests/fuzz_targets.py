@@ -9,7 +9,9 @@ new kind of argument: a strategy in :data:`KINDS`); ``python -m tests.fuzz`` run
 and prints the distinct failures by category.
 """
 
+import atexit
 import os
+import shutil
 import tempfile
 from dataclasses import dataclass, field
 
@@ -174,6 +176,7 @@ def scratch():
 
     def build():
         root = tempfile.mkdtemp(prefix="lab-fuzz-")
+        atexit.register(shutil.rmtree, root, True)  # the process's own scratch folder, gone when it ends
         os.makedirs(os.path.join(root, "empty"))
         for name, content in (("junk.step", b"\x00\xffnot a step file"), ("empty.igs", b""), ("list.ipynb", b"[1, 2]"),
                               ("junk.ipynb", b"{\"cells\": 3}"), ("roster.csv", b"username\n\xff\xfe"),
