@@ -36,7 +36,7 @@ exercises: setup
 CATALOGUE := lab/i18n/locale/de/LC_MESSAGES/lab.po
 translations: $(TEST_STAMP)
 	$(VENV)/bin/pybabel extract -k _ -k N_ --no-location --sort-output --project curvature-lab -o $(VENV)/lab.pot lab
-	$(VENV)/bin/pybabel update -i $(VENV)/lab.pot -d lab/i18n/locale -l de -D lab --no-fuzzy-matching --ignore-obsolete
+	$(VENV)/bin/pybabel update -i $(VENV)/lab.pot -d lab/i18n/locale -l de -D lab --no-fuzzy-matching --ignore-obsolete -w 120
 	$(VENV)/bin/pybabel compile -d lab/i18n/locale -l de -D lab --statistics
 
 # Redraw every picture in docs/ (README pictures and docs/gallery/), deterministically.
