@@ -126,7 +126,7 @@ def test_render_draft_min_radius_and_combs(tmp_path, capsys):
     assert (np.abs(image[..., 0] - image[..., 2]) > 60).sum() > 1000  # red and blue sides of the parting line
     assert (image.sum(-1) < 60).sum() > 200  # black parting line and combs
     for bad, message in ((["--draft", "0,0,0"], "pull direction must look like X,Y,Z"),
-                         (["--draft", "0,0,1", "--min-radius", "1"], "two colourings"),
+                         (["--draft", "0,0,1", "--min-radius", "1"], "different colourings"),
                          (["--min-radius", "-1"], "r must be")):
         with pytest.raises(SystemExit):
             cli.main(["render", "--surface", "sphere", "--quiet", *bad, "-o", str(tmp_path / "x.vtp")])
