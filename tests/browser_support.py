@@ -429,6 +429,18 @@ LAYOUT_JS = """
     if (el.scrollWidth > el.clientWidth + 1 && style.overflowX !== 'visible')
       clipped.push(`${el.tagName.toLowerCase()}.${el.className} "${(text || el.value).slice(0, 40)}" needs ${el.scrollWidth} px, has ${el.clientWidth}`);
   }
+  // a dropdown cuts off an option the select is too narrow for (its arrow takes the right padding)
+  const ctx = document.createElement('canvas').getContext('2d');
+  for (const sel of explorer.querySelectorAll('.lab-controls select')) {
+    const style = getComputedStyle(sel);
+    if (style.display === 'none' || sel.clientWidth === 0) continue;
+    ctx.font = style.font;
+    const room = sel.clientWidth - parseFloat(style.paddingLeft) - parseFloat(style.paddingRight);
+    for (const option of sel.options) {
+      const need = ctx.measureText(option.text).width;
+      if (need > room + 1) clipped.push(`select option "${option.text.slice(0, 40)}" needs ${Math.ceil(need)} px, has ${Math.floor(room)}`);
+    }
+  }
   const box = rect(explorer), out = rect(output);
   const outside = [];
   for (const el of explorer.querySelectorAll('.lab-colorbar-label, .lab-legend-item, .lab-controls .widget-inline-hbox, .lab-controls button')) {

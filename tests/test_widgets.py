@@ -2,6 +2,7 @@
 requests, main-thread renders, lifecycle, messages, static fallback."""
 
 import asyncio
+import re
 import threading
 
 import ipywidgets as W
@@ -258,7 +259,7 @@ def test_widget_layout_fills_the_output():
     rows = [c for c in grid.children if c.layout.grid_column == "1 / -1"]
     assert e.tools.readout in rows and e.info in rows and e.edge_legend in rows
     # ipywidgets drops grid_column when it first draws (its issue #2334): a class and a rule in the title do it
-    assert all("lab-full-row" in c._dom_classes for c in rows)
+    assert all("lab-full-row" in c._dom_classes or "lab-wide" in c._dom_classes for c in rows)
     assert ".lab-controls > .lab-full-row {grid-column: 1 / -1}" in w.children[0].children[0].value
 
     def nested(box):
@@ -525,3 +526,100 @@ def test_focal_explorer_on_a_model(teapot):
     assert f._mesh is base and len(np.unique(f.focal_mesh.point_data["face"])) == 32
     assert "mean curvature H" in f.legend_html()
     f.close()
+
+
+def _descendants(widget):
+    yield widget
+    for child in getattr(widget, "children", ()) or ():
+        yield from _descendants(child)
+
+
+def _four_explorers():
+    return [CurvatureExplorer(surfaces.practical(), live=False, depth=1),
+            ReflectionExplorer(surfaces.hood(), resolution=16, live=False),
+            FocalExplorer(surfaces.torus(2.0, 1.0), resolution=12, live=False),
+            GeodesicExplorer(surfaces.torus(2.0, 1.0), live=False)]
+
+
+FLOAT_SLIDERS = (W.FloatSlider, W.FloatLogSlider, W.FloatRangeSlider)
+
+
+def test_german_float_sliders_show_decimal_commas():
+    """ipywidgets' readout (d3-format) always writes a decimal point: in German each float slider has none of its
+    own but the lab's text beside it, in one grid cell, shown and hidden with the slider; English keeps the native
+    readout."""
+    with lab.i18n.using("de"):
+        explorers = _four_explorers()
+    try:
+        sliders = 0
+        for e in explorers:
+            grid = next(c for c in e.widget.children if isinstance(c, W.GridBox))
+            for cell in grid.children:
+                for slider in (w for w in _descendants(cell) if isinstance(w, FLOAT_SLIDERS)):
+                    sliders += 1
+                    assert not slider.readout, f"{slider.description}: ipywidgets' readout writes a decimal point"
+                    readout = next(w for w in cell.children if isinstance(w, W.Label))
+                    assert readout.value and not re.search(r"\d\.\d", readout.value), readout.value
+                    slider.value = slider.max if not isinstance(slider, W.FloatRangeSlider) else (slider.min, 0.5 *
+                                                                                                   slider.max)
+                    assert not re.search(r"\d\.\d", readout.value), readout.value
+        assert sliders == 10, f"{sliders} float sliders (comb scale, u, v, spacing, azimuth, elevation, a, u0, v0, α)"
+        r = explorers[1]
+        cells = {id(c.children[0]): c for c in next(c for c in r.widget.children if isinstance(c, W.GridBox)).children
+                 if isinstance(c, W.HBox) and c.children and isinstance(c.children[0], FLOAT_SLIDERS)}
+        for kind in ("stripes", "lines"):
+            r.kind.value = kind
+            for name in ("spacing", "azimuth", "elevation"):  # the slider and its readout hide and show together
+                slider = getattr(r, name)
+                assert cells[id(slider)].layout.display == slider.layout.display
+                assert (slider.layout.display == "none") == (name not in r.USES[kind])
+    finally:
+        for e in explorers:
+            e.close()
+    with lab.i18n.using("en"):
+        e = ReflectionExplorer(surfaces.hood(), resolution=16, live=False)
+    try:
+        assert e.spacing.readout and e.spacing in next(c for c in e.widget.children if isinstance(c, W.GridBox)).children
+    finally:
+        e.close()
+
+
+def test_slider_text_writes_numbers_as_the_language_does():
+    s = W.FloatLogSlider(value=0.05, base=10, min=-4, max=1)
+    r = W.FloatRangeSlider(value=(-0.001, 360.0), min=-1, max=360, readout_format=".1f")
+    with lab.i18n.using("de"):
+        assert lab.view.explorers.controls.slider_text(s) == "0,05"
+        assert lab.view.explorers.controls.slider_text(r) == "0,0 – 360,0"  # no −0,0
+        s.value = 1.25
+        assert lab.view.explorers.controls.slider_text(s) == "1,25"
+    with lab.i18n.using("en"):
+        assert lab.view.explorers.controls.slider_text(s) == "1.25"
+
+
+@pytest.mark.parametrize("lang", ["en", "de"])
+def test_every_dropdowns_longest_option_fits_its_width(lang):
+    """A select shows its option whole when 1.1 ch per character plus one (fit_labels' estimate), its arrow and its
+    label fit the cell: a 250 px grid cell (7.2 px a ch), or a row of its own as wide as it needs
+    ("reflection lines (light li…", "vorzeichenbehaftet l…" were cut off)."""
+    from lab.view.explorers import controls
+    with lab.i18n.using(lang):
+        explorers = _four_explorers()
+    try:
+        checked = 0
+        for e in explorers:
+            grid = next(c for c in e.widget.children if isinstance(c, W.GridBox))
+            for d in (w for c in grid.children for w in _descendants(c) if isinstance(w, W.Dropdown)):
+                checked += 1
+                longest = max(len(label) for label in d._options_labels)
+                label = controls._in_ch(d.style.description_width)
+                need = label + 1.1 * longest + 1 + controls.SELECT_EXTRA
+                if d.layout.grid_column == "1 / -1":
+                    assert d in grid.children and "lab-wide" in d._dom_classes  # the CSS rule places it at first draw
+                    assert float(d.layout.max_width.removesuffix("ch")) >= need
+                else:
+                    assert need * controls.CH <= controls.CELL_WIDTH, f"{d.description}: {need:.1f} ch in a 250 px cell"
+        assert checked >= 10
+        assert ".lab-controls > .lab-wide {grid-column: 1 / -1}" in controls.FULL_ROW_CSS
+    finally:
+        for e in explorers:
+            e.close()

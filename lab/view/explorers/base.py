@@ -53,7 +53,7 @@ from ...geometry.curvature import DegeneratePointWarning
 from ...i18n import N_, _
 from .. import style
 from ..render import configure_offscreen
-from .controls import FULL_ROW_CSS, LABEL_WIDTH, SHORT_LABEL_WIDTH, _dropdown, _layout, fit_labels, style_for  # noqa: F401
+from .controls import FULL_ROW_CSS, _dropdown, _layout, fit_labels, grid_cells, style_for  # noqa: F401
 from .live import push_camera as _push_camera
 from .live import release as _release_view
 from .live import rendering as _rendering
@@ -483,8 +483,7 @@ class Explorer:
                                                                                        margin="0 1em 0 0")),
                            self.status, self.progress],
                           layout=W.Layout(align_items="center", width="auto", padding="0 0 0 4px"))
-            cells = [*self._controls(), self.vision, save_control(self)]
-            fit_labels(cells)
+            cells = grid_cells([*self._controls(), self.vision, save_control(self)])
             controls = W.GridBox(cells, layout=W.Layout(
                 width="100%", grid_template_columns="repeat(auto-fill, minmax(250px, 1fr))",
                 grid_gap="0px 14px", align_items="center"))

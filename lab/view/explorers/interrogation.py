@@ -25,7 +25,7 @@ from ...interrogation.reflection import DEFAULT_COLORS, VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
-from .controls import full_row_text
+from .controls import float_slider, full_row_text
 from .edges import EdgeOverlay
 from .models import default_point, face_mesh
 
@@ -37,6 +37,8 @@ LIFT = 3e-3
 
 def _slider(cls, description, **kwargs):
     kwargs.setdefault("continuous_update", False)  # act on release: no intermediate values
+    if cls in (W.FloatSlider, W.FloatLogSlider, W.FloatRangeSlider):
+        return float_slider(cls, _(description), **kwargs)
     return cls(description=_(description), style=style_for(), layout=_layout(), **kwargs)
 
 

@@ -22,7 +22,7 @@ from ...interrogation.probe import probe, probe_lines
 from .. import legend as _legend
 from .. import style
 from .base import _dropdown, _layout, style_for
-from .controls import full_row_text
+from .controls import float_slider, full_row_text
 from .models import default_point, face_label
 
 #: the pull directions offered (label, vector)
@@ -72,18 +72,18 @@ class CurvatureTools:
                                            layout=_layout()))
         self.combs = c(W.Checkbox(value=False, description=_("curvature combs"), indent=False,
                                   layout=W.Layout(width="auto")))
-        self.comb_scale = c(W.FloatLogSlider(value=0.05, base=10, min=-4, max=1, description=_("comb scale"),
-                                             continuous_update=False, style=style_for(), layout=_layout()))
+        self.comb_scale = c(float_slider(W.FloatLogSlider, _("comb scale"), value=0.05, base=10, min=-4, max=1,
+                                         continuous_update=False))
         self.comb_density = c(W.IntSlider(value=32, min=4, max=128, description=_("teeth"), continuous_update=False,
                                           style=style_for(), layout=_layout()))
         self.comb_count = c(W.IntSlider(value=2, min=0, max=8, description=_("iso-curves"), continuous_update=False,
                                         style=style_for(), layout=_layout()))
         self.probe = c(W.Checkbox(value=False, description=_("point probe"), indent=False,
                                   layout=W.Layout(width="auto")))
-        self.u = c(W.FloatSlider(value=0.5 * (u0 + u1), min=u0, max=u1, step=(u1 - u0) / 200, description="u",
-                                 continuous_update=False, style=style_for(), layout=_layout()))
-        self.v = c(W.FloatSlider(value=0.5 * (v0 + v1), min=v0, max=v1, step=(v1 - v0) / 200, description="v",
-                                 continuous_update=False, style=style_for(), layout=_layout()))
+        self.u = c(float_slider(W.FloatSlider, "u", value=0.5 * (u0 + u1), min=u0, max=u1, step=(u1 - u0) / 200,
+                                continuous_update=False))
+        self.v = c(float_slider(W.FloatSlider, "v", value=0.5 * (v0 + v1), min=v0, max=v1, step=(v1 - v0) / 200,
+                                continuous_update=False))
         self.readout = c(full_row_text())
         self.lines_actor = None
         self.last_probe = None
