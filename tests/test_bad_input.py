@@ -353,3 +353,51 @@ def test_unclear_messages_geodesics_on_a_zero_size_surface_and_to_a_pole():
         lab.geodesic_between(lab.BezierSurface(np.zeros((4, 4, 3))), (0.1, 0.1), (0.8, 0.7))
     with pytest.raises(ValueError, match=r"B is a degenerate point \(a pole: b_u x b_v = 0\)"):
         lab.geodesic_between(surfaces.sphere(), (0.3, 0.3), (0.5, 1.0))
+
+
+# -- issue 35, the five failures the fuzzer still found at other seeds and budgets
+
+
+def test_explorer_of_bezier_patches_shows_curvature_without_the_surface_tools():
+    patches = surfaces.torus().to_bezier_patches()
+    e = lab.CurvatureExplorer(patches, depth=0, max_depth=2, window_size=(64, 48), live=False)
+    assert e.tools is None  # the probe and the combs need a surface's (u, v) domain
+    assert e._base is patches
+
+
+def test_release_with_a_roster_that_is_not_utf8_names_the_file(tmp_path):
+    from lab.teaching.course.release import main
+
+    roster, secret = tmp_path / "roster.csv", tmp_path / "secret"
+    roster.write_bytes(b"username\n\xff\xfe")
+    secret.write_text("0123456789abcdef0123456789abcdef")
+    import contextlib
+    import io
+
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main([str(tmp_path / "out"), "--per-student", str(roster), "--secret-file", str(secret)])
+    assert code == 2
+    assert f"{roster}: not a UTF-8 text file (byte 9 is 0xff)" in err.getvalue()
+
+
+def test_normal_section_on_a_surface_that_is_nan_names_the_start_point():
+    nan = lab.ParametricSurface(lambda u, v: lab.Derivatives(*(np.full(np.shape(u) + (3,), np.nan) for _ in range(6))),
+                                ((0, 1), (0, 1)))
+    with pytest.warns(DegeneratePointWarning), pytest.raises(
+            ValueError, match=r"start point \(u, v\) = \(0.1, 0.1\) is a degenerate point .* not finite"):
+        lab.normal_section(nan, (0.1, 0.1), 0.3, 1.0)
+
+
+def test_stripe_mapping_of_derivatives_near_1e300_is_refused_as_degenerate():
+    huge = lab.ParametricSurface(lambda u, v: lab.Derivatives(*(np.full(np.shape(u) + (3,), 1e300) for _ in range(6))),
+                                 ((0, 1), (0, 1)))
+    with pytest.warns(DegeneratePointWarning), pytest.raises(
+            ValueError, match="degenerate at 64 of its 64 mesh points .* not finite"):
+        lab.stripe_mapping(huge, resolution=8)
+
+
+@pytest.mark.parametrize("kw", [{"c": 5e-324}, {"c": 1e-300}, {"c": 1e300}, {"height": 1e6}])
+def test_catenoid_parameters_out_of_the_accepted_range(kw):
+    with pytest.raises(ValueError, match=r"(c|height) must be in \["):
+        surfaces.catenoid(**kw)

@@ -459,6 +459,13 @@ def stripe_mapping(surface, *, n_stripes=8, eye=None, view=None, margin=0.5, axe
         raise ValueError(f"the stripes of a face cannot be counted along its own normal axis; faces {', '.join(bad)}")
     eye_pt, view_dir = _eye_or_view(eye, view)
     X = np.asarray(mesh.points, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        undefined = ~(np.isfinite(X).all(axis=1) & np.isfinite(_normals(mesh)).all(axis=1))
+    if np.any(undefined):  # issue 35: a stripe box around NaN points has no stripes to count
+        k = int(np.flatnonzero(undefined)[0])
+        raise ValueError(f"the surface is degenerate at {int(undefined.sum())} of its {len(X)} mesh points (e.g. "
+                         f"point {k}): its point or normal is not finite there (NaN or inf: not defined, or "
+                         "derivatives beyond the float range); the stripe mapping needs a surface defined everywhere")
     if _diagonal(X) == 0:
         raise ValueError("the surface has zero extent")
     box = _refl.stripe_box(X, n_stripes, margin, axes_arr, _colors(colors, "colors", 6),

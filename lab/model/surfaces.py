@@ -214,17 +214,26 @@ def cone(radius=1.0, height=1.0):
     return BezierSurface(P, W)
 
 
+#: The catenoid's accepted waist radii ``c`` (see :func:`catenoid`).
+CATENOID_C = (1e-10, 1e10)
+
+
 def catenoid(c=1.0, height=None):
     """Catenoid ``(c cosh(v/c) cos u, c cosh(v/c) sin u, v)``, a minimal surface (Dill, figure 8).
 
     ``H = 0`` everywhere and ``K = -1 / (c² cosh⁴(v/c))``, from ``-1/c²`` at
     the waist towards 0.  ``v`` runs over ``[-height/2, height/2]`` (default
-    ``height = 3c``), ``u`` over ``[0, 2π]``.
+    ``height = 3c``), ``u`` over ``[0, 2π]``.  ``c`` must lie in ``[1e-10, 1e10]``
+    and ``height`` in ``[1e-10 c, 200 c]`` (a ``ValueError`` otherwise).
     """
     import sympy as sp
 
-    c = sp.nsimplify(as_number(c, "c", positive=True))
-    half = 1.5 * c if height is None else sp.nsimplify(as_number(height, "height", positive=True)) / 2
+    # issue 35: below 1e-10 the fundamental forms (c^4) fall under the degeneracy tolerance and sympy's
+    # simplification of v/c meets NaN; beyond 1e10, K = -1/c^2 underflows the tolerance the other way
+    c = as_number(c, "c", minimum=CATENOID_C[0], maximum=CATENOID_C[1])
+    # the rims at cosh(height / 2c): up to 200 c keeps them below 1e43 c (cosh(100)), inside the float range
+    height = 3.0 * c if height is None else as_number(height, "height", minimum=1e-10 * c, maximum=200.0 * c)
+    c, half = sp.nsimplify(c), sp.nsimplify(height) / 2
     u, v = sp.symbols("u v", real=True)
     xyz = (c * sp.cosh(v / c) * sp.cos(u), c * sp.cosh(v / c) * sp.sin(u), v)
     s = ParametricSurface.from_sympy(xyz, (u, v), ((0, 2 * sp.pi), (-half, half)), name="catenoid")

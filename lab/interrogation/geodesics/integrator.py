@@ -5,6 +5,8 @@ step decisions ``solve_ivp(method="DOP853")`` would make for it alone
 (Hairer, Nørsett, Wanner II.4-II.6), restarting paths at patch edges.
 """
 
+import warnings
+
 import numpy as np
 from scipy.integrate import DOP853, solve_ivp
 from scipy.optimize import brentq
@@ -183,6 +185,19 @@ class _Segments:
 # --------------------------------------------------------------------------- one path: solve_ivp
 
 
+def _check_defined(problem, uv, s):
+    """Where the solver failed: a ``ValueError`` if the surface's derivatives are not finite there (a user's surface
+    undefined at that point, issue 35), so the failure is named as the surface's, not the solver's."""
+    uv = problem.wrap(np.asarray(uv, dtype=float)[None])[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the surface's own DegeneratePointWarning: the error below says it
+        d = problem.surface.derivatives(uv[:1], uv[1:])
+    if not all(np.all(np.isfinite(x)) for x in d):
+        raise ValueError(f"{problem.kind} reached a degenerate point of the surface at s = {s:.6g}, (u, v) = "
+                         f"{_fmt(uv)}: its derivatives are not finite there (NaN or inf: the surface is not defined "
+                         "or not differentiable there)")
+
+
 def _solve_one(problem, y0, cell0, length, D, rtol, atol, method):
     """Integrate one path with solve_ivp, restarting at every patch edge (terminal event)."""
     t0, y, cell = 0.0, np.asarray(y0, dtype=float), np.asarray(cell0)[None]
@@ -204,6 +219,7 @@ def _solve_one(problem, y0, cell0, length, D, rtol, atol, method):
         res = solve_ivp(fun, (t0, length), y, method=method, rtol=rtol, atol=atol, events=(gap, regular),
                         dense_output=True, first_step=first_step)
         if res.status == -1:
+            _check_defined(problem, res.y[:2, -1], res.t[-1])
             raise RuntimeError(
                 f"{problem.kind} integration failed at s = {res.t[-1]:.6g} near (u, v) = "
                 f"{_fmt(problem.wrap(res.y[:2, -1]))}: {res.message}"
@@ -323,6 +339,7 @@ def _integrate_fan(problem, y0, cell0, length, D, rtol, atol):
         too_small = ha < min_step
         if np.any(too_small):
             j = idx[np.flatnonzero(too_small)[0]]
+            _check_defined(problem, y[j, :2], t[j])
             raise RuntimeError(
                 f"{problem.kind} integration failed at s = {t[j]:.6g} near (u, v) = {_fmt(problem.wrap(y[j, :2]))}: "
                 "Required step size is less than spacing between numbers."

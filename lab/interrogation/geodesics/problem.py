@@ -494,6 +494,12 @@ def _check_point(surface, uv, name):
 
 def _regular_derivatives(surface, u, v, name):
     d = surface.derivatives(np.array([u]), np.array([v]))
+    bad = [field for field, x in zip(d._fields, d) if not np.all(np.isfinite(x))]
+    if bad:  # a user's surface undefined there (issue 35: not a solver's RuntimeError or a hang on NaN)
+        raise ValueError(
+            f"{name} (u, v) = ({u:g}, {v:g}) is a degenerate point of the surface: its derivatives {', '.join(bad)} "
+            "are not finite (NaN or inf: the surface is not defined or not differentiable there); choose a point "
+            "where it is")
     _, degenerate = unit_normal(d.bu, d.bv)
     if degenerate[0]:
         raise ValueError(

@@ -13,10 +13,11 @@ import threading
 from pathlib import Path
 
 from ... import library, repository
+from ...i18n import _
 from ..untrusted import csv_rows
 
 __all__ = ["COLLECTED_COLUMNS", "SUMMARY_COLUMNS", "NotACourseRepository", "course_repository", "one_per_student",
-           "read_collected", "read_roster", "read_summary", "summary_rows", "write_atomic"]
+           "read_collected", "read_roster", "read_summary", "read_text", "summary_rows", "write_atomic"]
 
 #: The columns of ``SUBS/collected.csv``, written by ``collect``.
 COLLECTED_COLUMNS = ("student", "assignment", "status", "file", "submitted", "modified", "changed", "first_seen",
@@ -51,11 +52,23 @@ def write_atomic(path, text):
     os.replace(tmp, path)
 
 
+def read_text(path, error=ValueError):
+    """The text of ``path`` in UTF-8 (a byte order mark dropped); bytes that are not UTF-8 raise ``error`` naming the
+    file and where (issue 35: not Python's UnicodeDecodeError)."""
+    data = Path(path).read_bytes()
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise error(_("{path}: not a UTF-8 text file (byte {position} is {byte}); save it as UTF-8 text (in a "
+                      "spreadsheet: CSV UTF-8)").format(path=path, position=exc.start,
+                                                       byte=f"0x{data[exc.start]:02x}")) from None
+
+
 def read_roster(path, error=ValueError):
     """User names from a roster file (``collect --students``, ``release --per-student``): one per line (``#`` starts a
     comment line), or a CSV with a column ``username`` (or ``student``, ``login``, ``SIS Login ID``); a CSV without
     one raises ``error``."""
-    text = Path(path).read_text()
+    text = read_text(path, error)
     rows = list(csv.reader(io.StringIO(text)))
     if rows and len(rows[0]) > 1:
         head = [h.strip().lower() for h in rows[0]]

@@ -54,7 +54,7 @@ from pathlib import Path
 
 from ...i18n import _, parse_number
 from ..untrusted import clean, csv_cell
-from .files import one_per_student, summary_rows, write_atomic
+from .files import one_per_student, read_text, summary_rows, write_atomic
 from .late import LatePolicy, add_late_options, late_policy
 from .written import read_rows, read_written
 
@@ -87,8 +87,7 @@ def _number(text):
 def read_roster(path):
     """``{user name: row}`` from a roster CSV: Canvas's gradebook export (``SIS Login ID``) or any CSV with a
     ``username`` column (and optionally ``name``, ``id``, ``sis user id``, ``section``, ``email``, ``id number``)."""
-    with open(path, newline="", encoding="utf-8-sig") as fh:
-        rows = list(csv.DictReader(fh))
+    rows = list(csv.DictReader(io.StringIO(read_text(path, GradebookError), newline="")))
     out = {}
     for row in rows:
         low = {k.strip().lower(): (v or "").strip() for k, v in row.items() if k}

@@ -204,10 +204,11 @@ class CurvatureExplorer(Explorer):
         if student:
             self.range_mode.disabled = True
         # draft angle, minimum radius, combs and the point probe (lab/view/explorers/tools.py): on surfaces and
-        # models (the combs and the probe on a face chosen there)
+        # models (the combs and the probe on a face chosen there); not on a BezierPatches collection, which has
+        # no (u, v) domain for the probe (issue 35): its curvature is shown, the tools need the surface
         self.deviation = scan_deviation(surface, scan, tolerance, student)  # a scan: one of the tools' maps
-        self.tools = (CurvatureTools(self) if not student and (hasattr(surface, "derivatives") or self.model is not None)
-                      else None)
+        on_surface = hasattr(surface, "derivatives") and not isinstance(surface, BezierPatches)
+        self.tools = CurvatureTools(self) if not student and (on_surface or self.model is not None) else None
         self._build_scene()
         self._observe(self.color_map, self.recolor)
         self._observe(self.measure, self.recolor)
