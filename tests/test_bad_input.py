@@ -401,3 +401,10 @@ def test_stripe_mapping_of_derivatives_near_1e300_is_refused_as_degenerate():
 def test_catenoid_parameters_out_of_the_accepted_range(kw):
     with pytest.raises(ValueError, match=r"(c|height) must be in \["):
         surfaces.catenoid(**kw)
+
+
+def test_found_at_seed_1_a_class_for_the_explorer_and_a_huge_int_angle():
+    with pytest.raises(TypeError, match="got the class BezierSurface itself"):
+        lab.CurvatureExplorer(lab.BezierSurface, window_size=(64, 48), live=False)
+    with pytest.raises(ValueError, match="angle must be finite .* beyond the float range"):
+        lab.normal_section(surfaces.torus(), (0.1, 0.1), 10**400, 1.0)

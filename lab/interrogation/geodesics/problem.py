@@ -514,6 +514,8 @@ def _as_angles(angle):
         alpha = np.asarray(angle, dtype=float)
     except (TypeError, ValueError):
         raise TypeError(f"angle must be a number (radians); got {type(angle).__name__}") from None
+    except OverflowError:  # an int beyond the float range (10**400)
+        raise ValueError(f"angle must be finite (radians); got {_v._short(angle, 40)}, beyond the float range") from None
     if not np.all(np.isfinite(alpha)):
         raise ValueError(f"angle must be finite; got {angle}")
     return alpha
