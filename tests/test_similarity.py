@@ -41,6 +41,7 @@ from pathlib import Path
 import nbformat
 import pytest
 
+from lab import i18n
 from lab.teaching.course import similarity
 from tests import students
 
@@ -525,7 +526,7 @@ def course(tmp_path_factory):
     similarity.write_page(result, root / "05.html", "en")
     similarity.write_csv(result, root / "05.csv")
     assert similarity.main([str(subs04), "-o", str(root / "04.html"), "--csv", str(root / "04.csv")]) == 0
-    with pytest.MonkeyPatch.context() as mp:
+    with pytest.MonkeyPatch.context() as mp, i18n.using("de"):  # LAB_LANG alone yields to an earlier set_language
         mp.setenv("LAB_LANG", "de")
         assert similarity.main([str(subs04), "-o", str(root / "04-de.html")]) == 0
     return {"root": root, "subs05": subs05, "subs04": subs04, "result": result}
