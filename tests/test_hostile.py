@@ -221,9 +221,10 @@ def test_limits_hold_per_submission(graded):
         assert any(f"MiB of its {bubblewrap.MEMORY >> 20} MiB memory limit" in n for n in result.notes), result.text()
     else:  # no cgroup here: the kernel was killed, or the attack says what survived
         assert any(e["kind"] == "died" for e in result.cell_errors) or held, result.text()
-    # 2 GiB for all processes together: what the limit promises is about the processes that *held* their 400 MiB
-    # (a process still alive may not have allocated yet under load: "0 of 8 held, 6 still alive" is the limit working)
-    assert held is None or int(held.group(2)) * 400 < 2048, held.group(0)
+    # 2 GiB for all processes together (a process still alive may not have allocated yet under load: "0 of 8 held,
+    # 6 still alive" is the limit working); at the end at most min(held, alive) processes hold their 400 MiB together (a killed one freed its memory,
+    # a live one may not have allocated yet): under the 2 GiB limit (6 held in turn, 4 alive, was seen at load)
+    assert held is None or min(int(held.group(2)), int(held.group(3))) * 400 < 2048, held.group(0)
     for name in ("ada", "eve"):  # a classmate's peak is measured as well, far below the limit
         peak = graded["results"][name].peak_memory
         assert peak is None or 100 << 20 < peak < 1536 << 20, (name, peak)
