@@ -66,7 +66,8 @@ def marked(tmp_path_factory):
             points.fill(value)
             points.press("Enter")
             deadline = time.time() + 30
-            while time.time() < deadline and who.inner_text() == name and "another marker" not in panel.inner_text():
+            while (time.time() < deadline and who.inner_text() == name
+                   and not any(m in panel.inner_text() for m in ("another marker", "every answer of this question"))):
                 time.sleep(0.05)
             if "another marker" in panel.inner_text():
                 conflicts += 1
@@ -78,6 +79,8 @@ def marked(tmp_path_factory):
                     time.sleep(0.05)
                 points.click()
                 continue
+            assert who.inner_text() != name or "every answer of this question is marked" in panel.inner_text(), \
+                f"the panel did not move on from {name} within 30 s of Enter"
             seen["typed"][name] = value
             seen["order"].append(name)
         seen["seconds"] = time.perf_counter() - t0

@@ -181,7 +181,6 @@ class MarkingPanel:
             where = _("answer {k} of {n}").format(k=self.position + 1, n=len(order))
             same = (" · " + _("the same answer from {n} students: one mark for all").format(n=len(group))
                     if len(group) > 1 else "")
-            self.w_who.value = f"<b>{html.escape(who)}</b> <span style='color:#555'>({html.escape(where + same)})</span>"
             self.w_answer.value = (markdown(first.text) if first.text.strip()
                                    else "<i>" + html.escape(_("(no answer)")) + "</i>")
             self._figures(first.student, q.cell)
@@ -190,6 +189,9 @@ class MarkingPanel:
             self.w_comment.value = first.comment
             self.w_split.disabled = len(group) < 2
             self.w_message.value = self.message
+            # the name last: the browser applies the updates in order, so a marker (or a test) who sees the next name
+            # finds its points box already emptied and cannot type into it before the empty value arrives
+            self.w_who.value = f"<b>{html.escape(who)}</b> <span style='color:#555'>({html.escape(where + same)})</span>"
         finally:
             self._loading = False
 
