@@ -56,3 +56,20 @@ def test_the_labs_warnings_read_as_one_line():
     assert text == "DegeneratePointWarning: 3 degenerate points\n"
     other = warnings.formatwarning("hi", UserWarning, "/elsewhere/y.py", 5, "source line")
     assert other.startswith("/elsewhere/y.py:5: UserWarning: hi") and "source line" in other
+
+
+def test_every_example_in_the_docstrings_runs():
+    """The library reference shows the docstrings' examples: each one runs and prints what it says (doctest)."""
+    import doctest
+    import importlib
+    import pkgutil
+
+    failed, tried = [], 0
+    for info in pkgutil.walk_packages(lab.__path__, "lab."):
+        module = importlib.import_module(info.name)
+        for test in doctest.DocTestFinder().find(module, info.name):
+            if test.examples:
+                result = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE).run(
+                    test, out=lambda text, failed=failed, name=test.name: failed.append(f"{name}:\n{text}"))
+                tried += result.attempted
+    assert tried >= 20 and not failed, "\n".join(failed)

@@ -12,11 +12,11 @@ The methods of Choi & Lee (sections 3 and 4) and the classics they build on, as 
 Examples
 --------
 >>> import lab
->>> from lab import interrogation as I
+>>> from lab.interrogation import meshes
 >>> hood = lab.surfaces.hood()
->>> stripes = I.stripe_mapping(hood, n_stripes=10)               # doctest: +SKIP
->>> lines = I.parabolic_lines(lab.surfaces.torus())
->>> len(I.polylines(lines))
+>>> stripes = meshes.stripe_mapping(hood, n_stripes=10)          # doctest: +SKIP
+>>> lines = meshes.parabolic_lines(lab.surfaces.torus())
+>>> len(meshes.polylines(lines))
 2
 """
 

@@ -299,6 +299,7 @@ def my_surface(assignment="05_visualize_curvature"):
 
     Examples
     --------
+    >>> import lab
     >>> surface = lab.my_surface("05_visualize_curvature")
     >>> print(surface.variant)  # doctest: +SKIP
     your surface (the variant of ada): the practical's control net with x → 0.953125 x + 0.0625 y, …

@@ -151,9 +151,12 @@ def _dropdown(options, value, description):
                       style=style_for(), layout=_layout())
 
 
-def _layout():
-    """A control that fills its grid cell (auto, not 100%: the widget's own margin would overflow the cell)."""
-    return W.Layout(width="auto", min_width="0")
+def _layout(least=None):
+    """A control that fills its grid cell (auto, not 100%: the widget's own margin would overflow the cell); with
+    ``least``, a part of a wrapping row: as wide as the row allows, never narrower than ``least`` (it wraps)."""
+    if least is None:
+        return W.Layout(width="auto", min_width="0")
+    return W.Layout(width="auto", min_width=least, flex="1 1 auto")
 
 
 #: The grid columns a full row spans.

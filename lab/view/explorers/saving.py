@@ -13,7 +13,7 @@ import ipywidgets as W
 
 from ...i18n import _, decimal
 from .. import style
-from .controls import style_for
+from .controls import _layout, style_for
 from .edges import edge_legend_html
 
 __all__ = ["caption", "save_control", "save_picture"]
@@ -85,17 +85,12 @@ def save_picture(explorer, path, width=DEFAULT_WIDTH):
     return path, (image.shape[1], image.shape[0])
 
 
-def _item(least):
-    """A part of the save row: as wide as its cell allows, never narrower than ``least`` (it wraps instead)."""
-    return W.Layout(width="auto", min_width=least, flex="1 1 auto")
-
-
 def save_control(explorer):
     """The row "save picture": a width in pixels, a file name and the button (its result in the status line)."""
     width = W.BoundedIntText(value=DEFAULT_WIDTH, min=WIDTHS[0], max=WIDTHS[1], step=100,
-                             description=_("width [px]"), style=style_for(), layout=_item("13em"))
-    name = W.Text(value="picture.png", description=_("file"), style=style_for(), layout=_item("16em"))
-    button = W.Button(description=_("save picture"), icon="download", layout=_item("max-content"),
+                             description=_("width [px]"), style=style_for(), layout=_layout("13em"))
+    name = W.Text(value="picture.png", description=_("file"), style=style_for(), layout=_layout("16em"))
+    button = W.Button(description=_("save picture"), icon="download", layout=_layout("max-content"),
                       tooltip=_("write the view with its colour bar, legend and caption as a PNG file"))
 
     def save():
