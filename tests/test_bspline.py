@@ -133,3 +133,58 @@ def test_validation_messages(rng):
         s.insert_knot(4.0)
     with pytest.raises(ValueError, match="unknown direction 'w'"):
         s.insert_knot(1.0, "w")
+
+
+@pytest.mark.parametrize("weights", [False, True], ids=["B-spline", "NURBS"])
+def test_third_derivatives_match_scipy_and_the_quotient_rule(rng, weights):
+    """BSplineSurface.third_derivatives (what G3 across a CAD model's face edges compares): a non-rational spline
+    against scipy's tensor product of the basis functions' third derivatives; a NURBS against the same for its
+    homogeneous form A = (w S, w), then S_uuu = (A_uuu - 3 w_u S_uu - 3 w_uu S_u - w_uuu S) / w and its mixed
+    analogues (Leibniz), written out here by hand.  Cubic in u (interior knots: the third derivative jumps there,
+    the span after the knot is taken, as find_span does), quadratic in v (its third derivatives are 0)."""
+    s = _surface(rng, weights)
+    u = np.array([0.1, 0.7, 1.0, 1.9, 2.5, 3.3, 4.0])
+    v = np.array([0.0, 0.4, 1.0, 2.2, 3.0, 1.7, 2.9])
+    Bu, Bv = BSpline(s.knots_u, np.eye(7), 3), BSpline(s.knots_v, np.eye(4), 2)
+    right = lambda B, t, nu: np.where(np.isin(t, B.t[B.k + 1:-B.k - 1])[:, None],  # at a knot: the span after it
+                                      B(np.nextafter(t, np.inf), nu=nu), B(t, nu=nu))
+    w = np.ones(s.control_points.shape[:2]) if s.weights is None else s.weights
+    Pw = np.concatenate([s.control_points * w[..., None], w[..., None]], axis=-1)
+    A = {(a, b): np.einsum("ki,kj,ijd->kd", right(Bu, u, a), right(Bv, v, b) if b <= 2 else 0 * Bv(v), Pw)
+         for a in range(4) for b in range(4 - a)}
+    W = {k: x[:, 3:] for k, x in A.items()}
+    S = {(0, 0): A[0, 0][:, :3] / W[0, 0]}
+    from math import comb
+    for total in range(1, 4):
+        for a in range(total + 1):
+            b = total - a
+            x = A[a, b][:, :3] - sum(comb(a, i) * comb(b, j) * W[i, j] * S[a - i, b - j]
+                                     for i in range(a + 1) for j in range(b + 1) if i or j)
+            S[a, b] = x / W[0, 0]
+    got = s.third_derivatives(u, v)
+    for name, key, x in zip(("buuu", "buuv", "buvv", "bvvv"), ((3, 0), (2, 1), (1, 2), (0, 3)), got):
+        scale = np.abs(S[key]).max() + 1.0
+        np.testing.assert_allclose(x, S[key], atol=1e-12 * scale, rtol=0, err_msg=name)
+    assert np.all(got[3] == 0) or weights  # quadratic in v: no third derivative without weights
+
+
+def test_third_derivatives_of_a_nurbs_match_opencascade(rng):
+    """A biquartic NURBS with interior knots (simple: C3 there) against Geom_BSplineSurface.D3 of the same
+    control points, weights and knots, at random points and on the knot lines: 1e-11 of the largest component."""
+    pytest.importorskip("OCP")
+    from OCP.gp import gp_Pnt, gp_Vec
+
+    from tests.occ_support import occt_surface
+
+    knots = [0.0] * 5 + [0.3, 0.55] + [1.0] * 5
+    P = rng.normal(size=(7, 7, 3))
+    s = lab.BSplineSurface(P, knots, knots, 4, 4, weights=rng.uniform(0.5, 2.0, size=(7, 7)))
+    occ = occt_surface(s)
+    u = np.concatenate([rng.uniform(0, 1, 20), [0.3, 0.55, 0.3, 0.0, 1.0]])
+    v = np.concatenate([rng.uniform(0, 1, 20), [0.55, 0.3, 0.0, 1.0, 1.0]])
+    got = np.stack(s.third_derivatives(u, v), axis=1)  # (points, 4, 3)
+    for k in range(len(u)):
+        vectors = [gp_Vec() for _ in range(9)]
+        occ.D3(float(u[k]), float(v[k]), gp_Pnt(), *vectors)
+        ref = np.array([[x.X(), x.Y(), x.Z()] for x in (vectors[5], vectors[7], vectors[8], vectors[6])])
+        np.testing.assert_allclose(got[k], ref, atol=1e-11 * np.abs(ref).max(), rtol=0, err_msg=f"({u[k]}, {v[k]})")

@@ -22,6 +22,7 @@ import numpy as np
 
 from . import validation as _v
 from .bezier import dehomogenize, homogeneous
+from .derivatives import quotient_rule
 
 __all__ = [
     "basis_derivatives",
@@ -29,6 +30,7 @@ __all__ = [
     "domain",
     "find_span",
     "insert_knot",
+    "partial_derivatives",
     "to_bezier",
     "validate_knots",
 ]
@@ -211,6 +213,41 @@ def basis_rows(knots, degree, span, t):
     if p >= 2:
         out[2] = differentiate(differentiate(levels[p - 2], p - 1), p)
     return out
+
+
+def partial_derivatives(P, knots_u, knots_v, degree_u, degree_v, weights, u, v, order):
+    r"""Every partial derivative :math:`\partial^{i+j}\mathbf S/\partial u^i\partial v^j`, :math:`i + j \le`
+    ``order``, of a B-spline or NURBS surface at the points ``(u, v)`` (flat arrays of equal length ``k``).
+
+    The basis functions' derivatives of :func:`basis_derivatives` (The NURBS Book, A2.3; zero beyond the
+    degree) contracted with each point's ``(p+1)(q+1)`` control points (A3.6), in homogeneous coordinates for
+    a NURBS and then the quotient rule (eq. 4.20, :func:`lab.geometry.derivatives.quotient_rule`).  A point on a
+    knot takes the span :func:`find_span` gives, as every evaluator of the lab does.  The general path for
+    third derivatives (G3 across a CAD model's face edges, :func:`lab.continuity`); the six fields of
+    curvature take the faster :mod:`lab.geometry.tensor`.
+
+    Returns
+    -------
+    dict
+        ``{(i, j): ndarray (k, 3)}``.
+    """
+    p, q = int(degree_u), int(degree_v)
+    Pw = homogeneous(np.asarray(P, dtype=float), weights)
+    u, v = np.asarray(u, dtype=float).ravel(), np.asarray(v, dtype=float).ravel()
+    su, sv = find_span(knots_u, p, u), find_span(knots_v, q, v)
+
+    def basis(knots, degree, span, t):
+        out = np.zeros((t.size, order + 1, degree + 1))
+        out[:, : min(order, degree) + 1] = basis_derivatives(knots, degree, span, t, min(order, degree))
+        return out
+
+    Nu, Nv = basis(knots_u, p, su, u), basis(knots_v, q, sv, v)
+    rows = (su - p)[:, None] + np.arange(p + 1)[None, :]
+    cols = (sv - q)[:, None] + np.arange(q + 1)[None, :]
+    C = Pw[rows[:, :, None], cols[:, None, :]]  # (k, p+1, q+1, d)
+    A = {(i, j): np.einsum("ka,kb,kabd->kd", Nu[:, i], Nv[:, j], C)
+         for i in range(order + 1) for j in range(order + 1 - i)}
+    return A if weights is None else quotient_rule(A, order)
 
 
 def _check_surface(P, knots_u, knots_v, degree_u, degree_v, weights):

@@ -9,7 +9,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Derivatives", "from_homogeneous"]
+__all__ = ["THIRD", "Derivatives", "from_homogeneous", "quotient_rule"]
+
+#: The keys ``(i, j)`` of the third derivatives :math:`\partial^3/\partial u^i\partial v^j` in the order the lab
+#: passes them: ``buuu, buuv, buvv, bvvv``.
+THIRD = ((3, 0), (2, 1), (1, 2), (0, 3))
 
 
 class Derivatives(NamedTuple):
@@ -63,3 +67,23 @@ def from_homogeneous(Dw):
     Suv = (A[4] - w[1] * Sv - w[2] * Su - w[4] * S) / w[0]
     Svv = (A[5] - 2 * w[2] * Sv - w[5] * S) / w[0]
     return Derivatives(S, Su, Sv, Suu, Suv, Svv)
+
+
+def quotient_rule(A, order):
+    """Derivatives ``{(i, j): S_(u^i v^j)}`` of a rational surface from those of its homogeneous form ``A`` (same
+    keys, last coordinate the weight) by the Leibniz rule, :math:`A^{(a,b)} = \\sum \\binom{a}{i}\\binom{b}{j}
+    w^{(i,j)} S^{(a-i,b-j)}` solved for :math:`S^{(a,b)}` (The NURBS Book, eq. 4.20 to any order)."""
+    from math import comb
+
+    w = {k: x[..., -1:] for k, x in A.items()}
+    S = {}
+    for total in range(order + 1):
+        for a in range(total, -1, -1):
+            b = total - a
+            x = A[a, b][..., :-1].copy()
+            for i in range(a + 1):
+                for j in range(b + 1):
+                    if i or j:
+                        x -= comb(a, i) * comb(b, j) * w[i, j] * S[a - i, b - j]
+            S[a, b] = x / w[0, 0]
+    return S

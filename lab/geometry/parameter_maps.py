@@ -51,7 +51,7 @@ def circle_spans(opening):
 
 
 class ParameterMap(NamedTuple):
-    r"""A map :math:`t \mapsto s` from a file's parameter to its NURBS's, with its first two derivatives.
+    r"""A map :math:`t \mapsto s` from a file's parameter to its NURBS's, with its first three derivatives.
 
     Fields
     ------
@@ -116,16 +116,26 @@ class ParameterMap(NamedTuple):
 
     def __call__(self, t):
         """``(s, ds/dt, d2s/dt2)`` at the file's parameters ``t`` (arrays of ``t``'s shape)."""
+        return self.derivatives(t)[:3]
+
+    def third(self, t):
+        r"""``d3s/dt3`` at ``t``: :math:`\frac c4 (1 + T^2)(1 + 3T^2)` for a circle, :math:`-\frac c4 (1 - T^2)
+        (1 - 3T^2)` for a hyperbola (the derivatives of :math:`s''` with :math:`T' = (1 \pm T^2)/2`), 0 else."""
+        return self.derivatives(t)[3]
+
+    def derivatives(self, t):
+        """``(s, ds/dt, d2s/dt2, d3s/dt3)`` at the file's parameters ``t`` (arrays of ``t``'s shape)."""
         t = np.asarray(t, dtype=float)
         if self.kind == "identity":
-            return t, np.ones_like(t), np.zeros_like(t)
+            return t, np.ones_like(t), np.zeros_like(t), np.zeros_like(t)
         if self.kind == "affine":
-            return self.a + self.b * t, np.full_like(t, self.b), np.zeros_like(t)
+            return self.a + self.b * t, np.full_like(t, self.b), np.zeros_like(t), np.zeros_like(t)
         h = self.half
         if self.kind == "hyperbola":
             c = h / np.tanh(h / 2)
             T = np.tanh((t - self.origin) / 2)
-            return self.origin + c * T, 0.5 * c * (1 - T * T), -0.5 * c * T * (1 - T * T)
+            return (self.origin + c * T, 0.5 * c * (1 - T * T), -0.5 * c * T * (1 - T * T),
+                    -0.25 * c * (1 - T * T) * (1 - 3 * T * T))
         theta = t + self.a
         if self.period:  # angles outside the turn the NURBS covers move by whole periods (its ends stay)
             lo = self._angle(self.knots[self.degree])
@@ -140,7 +150,7 @@ class ParameterMap(NamedTuple):
             inside = (s >= self.knots[self.degree]) & (s <= self.knots[-self.degree - 1])
             mid = np.where(inside, self._middle(np.floor((centre - self.origin) / (2 * h))), mid)
         T = np.tan((theta - mid) / 2)
-        return mid + c * T, 0.5 * c * (1 + T * T), 0.5 * c * T * (1 + T * T)
+        return mid + c * T, 0.5 * c * (1 + T * T), 0.5 * c * T * (1 + T * T), 0.25 * c * (1 + T * T) * (1 + 3 * T * T)
 
     def _middle(self, k):
         return self.origin + (2 * k + 1) * self.half

@@ -9,7 +9,7 @@ coordinates, then the quotient rule to any order.  numpy only.
 import numpy as np
 
 from ..geometry import bezier
-from ..geometry.derivatives import Derivatives
+from ..geometry.derivatives import Derivatives, quotient_rule
 
 __all__ = ["border"]  # curvature_derivative: continuity's helper, not a road to a task's curvature
 
@@ -32,26 +32,6 @@ def _bernstein_derivatives(n, t, order=2):
             x = np.pad(x, ((0, 0), (1, 0))) - np.pad(x, ((0, 0), (0, 1)))
         out.append(float(np.prod(np.arange(n - k + 1, n + 1))) * x)
     return out
-
-
-def _quotient(A, order):
-    """Derivatives ``{(i, j): S_(u^i v^j)}`` of a rational surface from those of its homogeneous form ``A`` (same
-    keys, last coordinate the weight) by the Leibniz rule, :math:`A^{(a,b)} = \\sum \\binom{a}{i}\\binom{b}{j}
-    w^{(i,j)} S^{(a-i,b-j)}` solved for :math:`S^{(a,b)}` (The NURBS Book, eq. 4.20 to any order)."""
-    from math import comb
-
-    w = {k: x[..., -1:] for k, x in A.items()}
-    S = {}
-    for total in range(order + 1):
-        for a in range(total, -1, -1):
-            b = total - a
-            x = A[a, b][..., :-1].copy()
-            for i in range(a + 1):
-                for j in range(b + 1):
-                    if i or j:
-                        x -= comb(a, i) * comb(b, j) * w[i, j] * S[a - i, b - j]
-            S[a, b] = x / w[0, 0]
-    return S
 
 
 def border(nets, w, axis, end, t, order=2):
@@ -81,7 +61,7 @@ def border(nets, w, axis, end, t, order=2):
             R = sign ** k * float(np.prod(np.arange(m - k + 1, m + 1))) * R
         for a in range(order + 1 - k):  # (k across, a along) -> (u, v) exponents
             A[(k, a) if axis == 0 else (a, k)] = np.matmul(basis[a], R)
-    S = A if w is None else _quotient(A, order)
+    S = A if w is None else quotient_rule(A, order)
     d = Derivatives(S[0, 0], S[1, 0], S[0, 1], S[2, 0], S[1, 1], S[0, 2])
     return d if order < 3 else (d, (S[3, 0], S[2, 1], S[1, 2], S[0, 3]))
 

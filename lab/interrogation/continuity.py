@@ -25,8 +25,10 @@ An edge *achieves* G0 when ``g0 <= tol_g0``, G1 when also ``g1 <= tol_g1``, G2 w
 ``g2 <= tol_g2 * (max |κn| on the edge + 1/size)`` and G3 when also ``g3 <= tol_g3 * (max |κn'| + 1/size²)``;
 otherwise ``"none"``.  The default tolerances (:data:`TOLERANCES`): ``tol_g0 = 1e-6`` of the model's size
 (bounding-box diagonal), ``tol_g1 = 0.05`` degrees, ``tol_g2 = 0.01`` (1 %, OpenCASCADE's default ``Percent``),
-``tol_g3 = 0.01`` (1 %).  A model's face edges are measured up to G2 (its faces' evaluators give second
-derivatives); ``g3`` is NaN there.
+``tol_g3 = 0.01`` (1 %).  A model's face edges take each face's third derivatives at the pcurve points
+(:meth:`lab.Surface.third_derivatives`: exact for its NURBS faces and, by the chain rule, for its cylinders,
+cones, spheres, tori and surfaces of revolution); an edge of a face without them is measured up to G2 and its
+``g3`` is NaN.
 """
 
 from dataclasses import dataclass, field
@@ -80,7 +82,7 @@ class Edge:
     g0, g1, g2 : float
         Largest gap (length), normal angle (degrees) and cross-boundary normal curvature jump (1/length).
     achieved : str
-        ``"G2"``, ``"G1"``, ``"G0"`` or ``"none"``.
+        ``"G3"``, ``"G2"``, ``"G1"``, ``"G0"`` or ``"none"``.
     worst : (3,) ndarray
         Where the measure that decides :attr:`achieved` is largest (for ``"G2"``: where g2 is).
     points : (k, 3) ndarray
@@ -91,7 +93,7 @@ class Edge:
         the edge's curve, ``BRep_Tool.Tolerance``), which CAD files need for the gaps they leave.
     g3 : float
         Largest jump of the cross-boundary derivative of κn (1/length²), ``jump3`` (k,) at the samples; NaN where
-        not measured (a model's face edges: their surfaces give second derivatives only; at most G2).
+        not measured (a face without third derivatives: at most G2).
     """
 
     kind: str
@@ -140,7 +142,7 @@ class Continuity:
 
     @property
     def measured_g3(self):
-        """Whether G3 was measured on any edge (not on a model's face edges, see :attr:`Edge.g3`)."""
+        """Whether G3 was measured on any edge (not where a face has no third derivatives, see :attr:`Edge.g3`)."""
         return any(np.isfinite(e.g3) for e in self.edges)
 
     def counts(self):
@@ -164,7 +166,7 @@ class Continuity:
         rows = sorted(self.edges, key=lambda e: (LEVELS.index(e.achieved), -_deciding(e, tol, self.size)))
         edge, g0, g1, g2, achieved = (_("edge"), _("G0 gap"), _("G1 angle [deg]"), _("G2 jump [1/length]"),
                                       _("achieved"))
-        has_g3 = self.measured_g3  # a model's face edges: no G3 column
+        has_g3 = self.measured_g3  # no edge with a G3 measure: no G3 column
         g3 = _("G3 jump [1/length²]")
         g3 = f" {g3:>20}" if has_g3 else ""
         header = f"{edge:<26} {g0:>10} {g1:>15} {g2:>19}{g3} {achieved:>9}"
@@ -341,14 +343,14 @@ def _edges(meta, dA, dB, tA, tB, tol, size, signs=None, g0_tol=None, third=None)
         g1 = np.max(np.where(ok, angle, 0.0), axis=1)
         g2 = np.max(np.where(ok, jump, 0.0), axis=1)
         knmax = np.max(np.where(ok, kn, 0.0), axis=1)
-        if third is not None:
+        if third is not None:  # an edge without a finite sample of g3 (a face without third derivatives): NaN
             ok3 = ok & np.isfinite(jump3)
-            g3 = np.max(np.where(ok3, jump3, 0.0), axis=1)
+            g3 = np.where(np.any(ok3, axis=1), np.max(np.where(ok3, jump3, 0.0), axis=1), np.nan)
             dknmax = np.max(np.where(ok3, dkn, 0.0), axis=1)
     levels = _levels(g0, g1, g2, knmax, tol, size, g0_tol, g3, dknmax)
     deciding = np.where((levels == "none")[:, None], gap, np.where((levels == "G0")[:, None], angle, jump))
     if third is not None:
-        deciding = np.where((levels == "G2")[:, None], jump3, deciding)
+        deciding = np.where((levels == "G2")[:, None] & ok3, jump3, deciding)
     deciding = np.where(ok | (levels == "none")[:, None], deciding, -np.inf)
     worst = np.argmax(deciding, axis=1)
     points = dA.b
@@ -465,7 +467,7 @@ def _matched_edges(patches, tol, size, samples):
 
 def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None, tol_g3=None):
     """G0/G1/G2/G3 across the knot lines of a B-spline surface, the shared borders of Bézier patches or a model's
-    edges (a model's: up to G2).
+    edges.
 
     Parameters
     ----------
@@ -509,20 +511,14 @@ def continuity(obj, *, samples=17, tol_g0=None, tol_g1=None, tol_g2=None, tol_g3
             edges = _grid_edges(P, w, obj.seams, tol, size, samples, "patch border")
         else:
             edges = _matched_edges(obj, tol, size, samples)
-    else:
-        model = _as_model(obj)
-        if model is None:
-            raise TypeError(f"continuity needs a lab.BSplineSurface, a lab.BezierPatches or a lab.Model; "
-                            f"got {type(obj).__name__}")
-        lo, hi = model.bounds()
+    elif hasattr(obj, "faces") and type(obj).__name__ == "Model":  # a lab.Model (not imported: OCP stays optional)
+        lo, hi = obj.bounds()
         size = float(np.linalg.norm(hi - lo)) or 1.0
-        edges = _model_edges(model, tol, size)
+        edges = _model_edges(obj, tol, size)
+    else:
+        raise TypeError(f"continuity needs a lab.BSplineSurface, a lab.BezierPatches or a lab.Model; "
+                        f"got {type(obj).__name__}")
     return Continuity(edges, tol, size)
-
-
-def _as_model(obj):
-    """``obj`` if it is a lab.Model (a model with faces), else None."""
-    return obj if hasattr(obj, "faces") and type(obj).__name__ == "Model" else None
 
 
 def _model_edges(model, tol, size):
@@ -534,10 +530,9 @@ def _model_edges(model, tol, size):
     may slip by more than its tolerance), that shift is no gap.  An edge is closed within twice the file's
     tolerance of the edge as well (:attr:`Edge.g0_tol`).
 
-    Each face is evaluated once, at the samples of all its edges; edges with the same number of samples are
-    measured together.  The faces' derivatives at a pcurve point are the surface's own: one-sided where the
-    edge is the surface's border (the evaluator takes the span inside), not where a trimmed face's edge runs
-    along an interior knot line of lower continuity."""
+    Each face is evaluated once (to the third derivatives, where it has them), at the samples of all its edges;
+    edges with the same number of samples are measured together.  The derivatives are the surface's own:
+    one-sided where the edge is the surface's border, not along an interior knot line of lower continuity."""
     edges = [e for e in model.edges if len(e.faces) == 2]
     if not edges:
         return []
@@ -545,30 +540,37 @@ def _model_edges(model, tol, size):
     for n, e in enumerate(edges):
         for side, (index, uv) in enumerate(zip(e.faces, e.uv)):
             wanted.setdefault(index, []).append((n, side, np.asarray(uv, dtype=float)))
-    derivs = {}
+    derivs, thirds = {}, {}
     for index, items in wanted.items():
         face = model.face(index)
         uv = np.concatenate([uv for _n, _s, uv in items])
         surface = getattr(face, "file_surface", face.surface)  # edge uv: the file's
         d = surface.derivatives(uv[:, 0], uv[:, 1])
+        try:
+            third = surface.third_derivatives(uv[:, 0], uv[:, 1])
+        except NotImplementedError:  # a face without third derivatives: its edges are measured up to G2
+            third = (np.full_like(d.b, np.nan),) * 4
         collapsed = on_collapsed_side(surface, uv, collapsed_sides(surface))
         if np.any(collapsed):  # a side that is a point within the file's accuracy: no normal there, not measured
             d = d._replace(**{f: np.where(collapsed[:, None], np.nan, getattr(d, f))
                               for f in ("bu", "bv", "buu", "buv", "bvv")})
+            third = tuple(np.where(collapsed[:, None], np.nan, x) for x in third)
         start = 0
         for n, side, part in items:
             stop = start + len(part)
             derivs[n, side] = d.map(lambda x, a=start, b=stop: x[a:b])
+            thirds[n, side] = tuple(x[start:stop] for x in third)
             start = stop
     groups = {}
     for n, e in enumerate(edges):
         groups.setdefault(len(e.t), []).append(n)
     out = [None] * len(edges)
     for members in groups.values():
-        sides, signs = [], []
+        sides, signs, third = [], [], []
         for side in (0, 1):
             ds = [derivs[n, side] for n in members]
             sides.append(Derivatives(*(np.stack([getattr(d, f) for d in ds]) for f in Derivatives._fields)))
+            third.append(tuple(np.stack([thirds[n, side][k] for n in members]) for k in range(4)))
             signs.append(np.array([[-1.0 if _reversed(model, edges[n], side) else 1.0]
                                    * len(edges[n].t) for n in members]))
         t = np.stack([_edge_tangents(edges[n]) for n in members])
@@ -579,7 +581,7 @@ def _model_edges(model, tol, size):
         sides[1] = sides[1]._replace(b=sides[1].b + np.nan_to_num(slip))
         meta = [("face edge", None, None, tuple(edges[n].faces), None) for n in members]
         own = np.array([2.0 * (getattr(edges[n], "tolerance", None) or 0.0) for n in members])
-        for n, edge in zip(members, _edges(meta, sides[0], sides[1], t, t, tol, size, signs, own)):
+        for n, edge in zip(members, _edges(meta, sides[0], sides[1], t, t, tol, size, signs, own, tuple(third))):
             out[n] = edge
     return out
 

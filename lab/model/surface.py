@@ -17,13 +17,13 @@ from ..geometry import curvature as _curv
 from ..geometry import directions as _dirs
 from ..geometry import tensor as _tensor
 from ..geometry import validation as _v
-from ..geometry.derivatives import Derivatives
+from ..geometry.derivatives import THIRD, Derivatives
 from ..geometry.grids import Seams
 from ..i18n import _
-from .checks import checked_derivatives, map_values
+from .checks import checked_derivatives
 from .patches import BezierPatches
 
-__all__ = ["BSplineSurface", "BezierSurface", "ParametricSurface", "ReparametrizedSurface", "Surface"]
+__all__ = ["BSplineSurface", "BezierSurface", "ParametricSurface", "Surface"]
 
 
 class Surface:
@@ -138,6 +138,12 @@ class Surface:
         """Point and partial derivatives ``b, bu, bv, buu, buv, bvv`` (shape ``broadcast(u, v).shape + (3,)``)."""
         _, _, fields = self.sample(tuple, u, v)
         return Derivatives(*fields)
+
+    def third_derivatives(self, u, v):
+        """The third partial derivatives ``(buuu, buuv, buvv, bvvv)``, each of shape ``broadcast(u, v).shape + (3,)``:
+        what G3 across an edge compares (:func:`lab.continuity`).  Spline surfaces and their reparametrizations
+        (a CAD model's faces) have them exactly; other surfaces raise :class:`NotImplementedError`."""
+        raise NotImplementedError(f"{type(self).__name__} has no third derivatives")
 
     def evaluate(self, u, v):
         """Surface points, shape ``broadcast(u, v).shape + (3,)``."""
@@ -303,6 +309,15 @@ class _SplineSurface(Surface):
 
     def _derivatives(self, u, v):
         return Derivatives(*_tensor.map_points(self._point_derivatives, tuple, u, v))
+
+    def third_derivatives(self, u, v):
+        """As :meth:`Surface.third_derivatives`: exact, from the basis functions' third derivatives (a point on a
+        knot line takes the span after it, as every evaluator of the lab does)."""
+        u, v = _v.as_parameters(u, v, self.domain)
+        P, knots_u, knots_v, p, q, weights = self._spline_args()
+        _v.check_memory(u.size * 8 * (4 * (p + 1) * (q + 1) + 64), f"third derivatives at {u.size} points", None)
+        S = bspline.partial_derivatives(P, knots_u, knots_v, p, q, weights, u, v, 3)
+        return tuple(S[k].reshape(u.shape + (3,)) for k in THIRD)
 
 
 class BezierSurface(_SplineSurface):
@@ -516,76 +531,6 @@ class ParametricSurface(Surface):
 
     def __repr__(self):
         return f"ParametricSurface({self.name}, domain={self.domain})"
-
-
-class ReparametrizedSurface(Surface):
-    r"""A surface in new parameters: :math:`\mathbf x(u, v) = \mathbf b(s(u), t(v))`, one increasing map per direction.
-
-    A CAD face keeps the parameters of its file (a cylinder's angle) while its exact NURBS form runs in
-    others (:mod:`lab.geometry.parameter_maps`); this class evaluates the NURBS at the mapped parameters
-    and applies the chain rule, so curvature, geodesics, meshes and trims work in the file's parameters:
-
-    .. math::
-
-        \mathbf x_u = \mathbf b_s s', \quad \mathbf x_v = \mathbf b_t t', \quad
-        \mathbf x_{uu} = \mathbf b_{ss} s'^2 + \mathbf b_s s'', \quad
-        \mathbf x_{uv} = \mathbf b_{st} s' t', \quad
-        \mathbf x_{vv} = \mathbf b_{tt} t'^2 + \mathbf b_t t''.
-
-    The maps increase (:math:`s', t' > 0`), so the normal :math:`\mathbf x_u \times \mathbf x_v` points
-    the same way as :math:`\mathbf b_s \times \mathbf b_t` and K, H, k1, k2 are the base surface's.
-
-    Parameters
-    ----------
-    base : Surface
-        The surface in its own parameters (usually a :class:`BSplineSurface`).
-    map_u, map_v : callable
-        ``map(u)`` returns ``(s, ds/du, d2s/du2)``, arrays of ``u``'s shape
-        (e.g. :class:`lab.geometry.parameter_maps.ParameterMap`).
-    domain : ((float, float), (float, float))
-        The domain in the new parameters; its image lies in the base's domain.
-    """
-
-    def __init__(self, base, map_u, map_v, domain, name="reparametrized surface"):
-        if not isinstance(base, Surface):
-            raise TypeError(f"base must be a lab.Surface; got {type(base).__name__}")
-        if not (callable(map_u) and callable(map_v)):
-            raise TypeError("map_u and map_v must be callables returning (s, ds, d2s)")
-        self.base = base
-        self.maps = [map_u, map_v]  # a list: cached results key on its identity (the maps may hold arrays)
-        self.domain = _check_domain(domain)
-        self.name = name
-
-    def _chain(self, D, su, sv):
-        """The derivatives in the new parameters from the base's ``D`` and the maps' values (broadcastable)."""
-        (_, du, ddu), (_, dv, ddv) = su, sv
-        du, ddu, dv, ddv = (x[..., None] for x in (du, ddu, dv, ddv))
-        return Derivatives(D.b, D.bu * du, D.bv * dv, D.buu * du * du + D.bu * ddu, D.buv * du * dv,
-                           D.bvv * dv * dv + D.bv * ddv)
-
-    def _point_derivatives(self, u, v, work=None):
-        su, sv = map_values(self.maps[0], u, "map_u"), map_values(self.maps[1], v, "map_v")
-        return self._chain(self.base._point_derivatives(su[0], sv[0], work), su, sv)
-
-    def _grid_blocks(self, u, v):
-        su, sv = map_values(self.maps[0], u, "map_u"), map_values(self.maps[1], v, "map_v")
-        for rows, cols, D in self.base._grid_blocks(su[0], sv[0]):
-            yield rows, cols, self._chain(D, tuple(x[rows][:, None] for x in su), tuple(x[cols][None, :] for x in sv))
-
-    def _map_points(self, func, u, v):
-        return _tensor.map_points(self._point_derivatives, func, u, v)
-
-    def _derivatives(self, u, v):
-        u, v = np.broadcast_arrays(np.asarray(u, dtype=float), np.asarray(v, dtype=float))
-        shape = u.shape
-        D = self._point_derivatives(u.reshape(-1), v.reshape(-1))
-        return D.map(lambda x: x.reshape(shape + x.shape[1:]))
-
-    def _defining(self):
-        return (self.base, self.maps, self.domain, self.periodic)
-
-    def __repr__(self):
-        return f"ReparametrizedSurface({self.name}, domain={self.domain}, base={self.base!r})"
 
 
 def _check_domain(domain):

@@ -29,7 +29,8 @@ import warnings
 import numpy as np
 
 from ...geometry.parameter_maps import ParameterMap, circle_spans
-from ...model.surface import BSplineSurface, ReparametrizedSurface
+from ...model.reparametrized import ReparametrizedSurface
+from ...model.surface import BSplineSurface
 from ..trimming import trimmed
 from ..trimming.loops import signed_area
 from .curves import _cast, _clip, _shape_map, pcurve_points

@@ -16,6 +16,7 @@ import warnings
 
 import numpy as np
 
+from ...model.surface import BezierSurface
 from .model import Model
 from .occ import _cast, require_ocp
 
@@ -138,7 +139,8 @@ def _pieces(obj):
     if hasattr(obj, "_spline_args"):
         return [_Piece(obj)]
     if hasattr(obj, "control_points") and hasattr(obj, "__iter__"):  # BezierPatches
-        return [_Piece(patch.surface if hasattr(patch, "surface") else patch) for patch in obj]
+        return [_Piece(BezierSurface(patch.control_points, patch.weights), label=f"patch {k}")
+                for k, patch in enumerate(obj)]
     raise TypeError(f"write needs a lab.Model, a lab.TrimmedSurface, a lab.BezierSurface or a lab.BSplineSurface; "
                     f"got {type(obj).__name__}")
 
