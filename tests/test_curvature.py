@@ -1,5 +1,6 @@
 """Curvature against analytic values, sympy-exact values and geometric properties (lab.curvature)."""
 
+import re
 import warnings
 
 import numpy as np
@@ -233,6 +234,22 @@ def test_records_print_plain_numbers():
     arrays = repr(sphere.curvature(np.array([0.3, 0.6]), 0.4))
     assert "K=[0.25, 0.25]" in arrays and "array(" not in arrays
     assert "np.float64" not in repr(sphere.fundamental_forms(0.3, 0.4))
+
+
+def test_records_display_in_the_languages_notation():
+    """A notebook's display of a record (IPython's pretty printer): Python's repr in English; in German the same
+    fields with decimal commas, so semicolons between them (issue 36)."""
+    from IPython.lib.pretty import pretty
+
+    sphere = lab.surfaces.sphere(2.0)
+    one, two = sphere.curvature(0.3, 0.4), sphere.curvature(np.array([0.3, 0.6]), 0.4)
+    assert pretty(one) == repr(one) and pretty(two) == repr(two)
+    with lab.i18n.using("de"):
+        texts = [pretty(one), pretty(two), pretty(sphere.fundamental_forms(0.3, 0.4)),
+                 pretty(sphere.curvature(0.3, 0.4, directions=True))]
+    assert texts[0].startswith("Curvature(K=0,2499999999999999; H=-0,4999") and texts[0].endswith("; degenerate=False)")
+    assert "K=[0,25; 0,25]" in texts[1] and texts[3].startswith("CurvatureDirections(K=0,2499999999999999; ")
+    assert not any(re.search(r"\d\.\d", t) for t in texts), texts
 
 
 

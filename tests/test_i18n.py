@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from lab import check, i18n
+from lab.teaching.task import fmt
 
 babel = pytest.importorskip("babel")
 from babel.messages import extract, mofile, pofile
@@ -76,6 +77,18 @@ def test_checks_and_hints_speak_german():
     assert "noch nicht implementiert" in str(rep)
     assert "Gaußsche Krümmung" in str(wrong) and "Erster fehlgeschlagener Fall" in str(wrong)
     assert "not implemented yet" in str(check.warmup(stub))  # and English outside
+
+
+def test_reports_write_numbers_as_the_language_does():
+    """German case names, "expected" and "got" use decimal commas and a semicolon between numbers (issue 36)."""
+    assert i18n.number_list([0.5, "x", 3]) == "0.5, x, 3" and i18n.number_list([-2.5, 0.25], "+.2f") == "-2.50, +0.25"
+    with i18n.using("de"):
+        assert i18n.number_list([0.5, "x", 3]) == "0,5; x; 3" and fmt([0.5, 1.25]) == "[0,5  1,25]"
+        right = str(check.f2(lambda x, lo, hi: 0.5 if hi == lo else (x - lo) / (hi - lo)))
+        wrong = str(check.f1(lambda x: x))  # f1(7.5) gives 7.5, not 1
+    assert "f2(3; 1; 5)" in right and "f2(0,7; 0,7; 0,7)" in right and "f1(7,5)" in wrong
+    assert not re.search(r"\d\.\d", right + wrong), right + wrong
+    assert "f2(0.7, 0.7, 0.7)" in str(check.f2(lambda x, lo, hi: 0.5 if hi == lo else (x - lo) / (hi - lo)))
 
 
 def test_kernel_started_with_lab_lang_speaks_german():

@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..i18n import _
+from ..i18n import _, decimal, language
 from . import validation as _v
 from .colormaps import ZERO_TOL
 
@@ -97,15 +97,24 @@ class DegeneratePointWarning(RuntimeWarning):
     """Some evaluated points have no tangent plane (``|b_u x b_v| = 0``)."""
 
 
-def _plain_repr(record):
-    """``Name(field=value, …)`` with plain numbers (``-0.25``, not ``np.float64(-0.25)``) for notebooks."""
+def _plain_repr(record, notation="en"):
+    """``Name(field=value, …)`` with plain numbers (``-0.25``, not ``np.float64(-0.25)``) for notebooks; with
+    ``notation="de"`` as German writes numbers: decimal commas, so fields and elements apart by semicolons."""
+    sep = "; " if notation == "de" else ", "
 
     def plain(x):
         x = np.asarray(x)
-        return repr(x.item()) if x.ndim == 0 else np.array2string(x, separator=", ", threshold=24)
+        text = repr(x.item()) if x.ndim == 0 else np.array2string(x, separator=sep, threshold=24)
+        return decimal(text) if notation == "de" else text
 
-    fields = ", ".join(f"{name}={plain(value)}" for name, value in zip(record._fields, record))
+    fields = sep.join(f"{name}={plain(value)}" for name, value in zip(record._fields, record))
     return f"{type(record).__name__}({fields})"
+
+
+def _pretty(record, p, cycle):
+    """IPython's display of a record (``_repr_pretty_``): its plain repr in the lab's language's notation
+    ("Curvature(K=-0,25; H=0,5; …)" in German); ``repr`` itself stays Python's notation."""
+    p.text(_plain_repr(record, language()))
 
 
 class FundamentalForms(NamedTuple):
@@ -121,6 +130,8 @@ class FundamentalForms(NamedTuple):
 
     def __repr__(self):
         return _plain_repr(self)
+
+    _repr_pretty_ = _pretty
 
 
 class Curvature(NamedTuple):
@@ -143,6 +154,8 @@ class Curvature(NamedTuple):
 
     def __repr__(self):
         return _plain_repr(self)
+
+    _repr_pretty_ = _pretty
 
 
 class PointClass(enum.IntEnum):

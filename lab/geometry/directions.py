@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .curvature import _plain_repr, _weingarten, classify, strain_energy
+from .curvature import _plain_repr, _pretty, _weingarten, classify, strain_energy
 
 __all__ = ["UMBILIC_RTOL", "CurvatureDirections", "eigen", "from_derivatives"]
 
@@ -68,6 +68,8 @@ class CurvatureDirections(NamedTuple):
 
     def __repr__(self):
         return _plain_repr(self)
+
+    _repr_pretty_ = _pretty
 
     def __str__(self):
         """At one point: the curvatures and the two directions in two lines, in the lab's language (decimal commas

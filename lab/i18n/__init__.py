@@ -10,8 +10,8 @@ import os
 import re
 from pathlib import Path
 
-__all__ = ["DOMAIN", "LANGUAGES", "LOCALE_DIR", "N_", "_", "decimal", "language", "parse_number", "set_language",
-           "translation", "using"]
+__all__ = ["DOMAIN", "LANGUAGES", "LOCALE_DIR", "N_", "_", "decimal", "language", "number_list", "parse_number",
+           "set_language", "translation", "using"]
 
 #: The languages the lab speaks.
 LANGUAGES = ("en", "de")
@@ -88,6 +88,14 @@ _POINT = re.compile(r"(?<=\d)\.(?=\d)")
 def decimal(text):
     """``text`` with its numbers' decimal points as the current language writes them ("0.5" → "0,5" in German)."""
     return _POINT.sub(",", text) if language() == "de" else text
+
+
+def number_list(values, spec="g"):
+    """``values`` as the current language lists numbers: "0.5, 0.25" in English, "0,5; 0,25" in German (the comma is
+    the decimal sign there, so a semicolon separates).  Each number is formatted with ``spec``; a string (a symbol
+    such as ``"x"``) is kept as it is.  For arguments and points: ``f"f2({number_list(['x', 0.5, 1])})"``."""
+    sep = "; " if language() == "de" else ", "
+    return sep.join(x if isinstance(x, str) else decimal(format(float(x), spec)) for x in values)
 
 
 def parse_number(text):

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..i18n import N_, _
+from ..i18n import N_, _, decimal
 from .report import Case
 
 __all__ = ["CaseSpec", "Hint", "Task", "build_report", "close", "fmt", "judge_outcome"]
@@ -92,8 +92,10 @@ def close(a, b, rtol=1e-7, scale=None):
 
 
 def fmt(x, digits=6):
+    """Numbers for a report's "expected"/"got", in the language's notation (array elements are apart by spaces, so a
+    German decimal comma stays unambiguous: "[0,5 1,25]")."""
     arr = np.asarray(x, dtype=float)
-    return np.array2string(arr, precision=digits, suppress_small=False, max_line_width=100, threshold=12)
+    return decimal(np.array2string(arr, precision=digits, suppress_small=False, max_line_width=100, threshold=12))
 
 
 _STATUS = {"not implemented": "not implemented", "timeout": "timeout", "delegated": "delegated",

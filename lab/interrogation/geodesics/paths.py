@@ -53,7 +53,7 @@ import numpy as np
 
 from ...geometry import validation as _v
 from ...geometry.curvature import DegeneratePointWarning, unit_normal
-from ...i18n import _, decimal, language
+from ...i18n import _, decimal, number_list
 from ...model.surface import Surface
 from .. import export
 from .faces import TRIM_SAMPLES, as_surface, check_inside, trim_ends
@@ -260,7 +260,7 @@ MAX_LENGTH_PER_SIZE = 100
 
 def _pair(uv):
     """``(u, v)`` as the current language writes it: "(0.5, 0.25)", in German "(0,5; 0,25)"."""
-    return "({})".format(("; " if language() == "de" else ", ").join(decimal(f"{float(x):g}") for x in uv))
+    return f"({number_list(uv)})"
 
 
 def _check_length_cap(surface, L, kind):

@@ -4,7 +4,7 @@ import numpy as np
 
 from ...geometry import colormaps
 from ...geometry.curvature import zero_tolerance
-from ...i18n import N_, _
+from ...i18n import N_, _, decimal, number_list
 from ...model.patches import BezierPatches
 from ..task import CaseSpec, Task, fmt, scalar_judge
 from .curvature import BEZIER_BLOCK, CURVATURE_BLOCK
@@ -33,7 +33,7 @@ VISUALIZE_BLOCK = tuple(dict.fromkeys(CURVATURE_BLOCK + BEZIER_BLOCK + COLOR_BLO
 
 def _h_cases(rng, graded):
     xs = [0.0, 0.25, 0.5, 0.75, 1.0] + list(np.round(rng.uniform(0, 1, 6 if graded else 3), 4))
-    return [CaseSpec(f"h({x:g})", (float(x),)) for x in xs]
+    return [CaseSpec(f"h({number_list([x])})", (float(x),)) for x in xs]
 
 
 def _h_hint(args, val, exp):
@@ -41,7 +41,7 @@ def _h_hint(args, val, exp):
     if np.all(val == np.round(val)) and np.max(val) > 1:
         return _("colours are (r, g, b) in [0, 1], not 0–255.")
     piece = min(int(x * 4), 3)
-    return _("check the piece for x in [{a}, {b}]: ").format(a=f"{piece / 4:g}", b=f"{(piece + 1) / 4:g}") + [
+    return _("check the piece for x in [{a}, {b}]: ").format(a=decimal(f"{piece / 4:g}"), b=decimal(f"{(piece + 1) / 4:g}")) + [
         "(0, 4x, 1)", "(0, 1, 2 − 4x)", "(4x − 2, 1, 0)", "(1, 4 − 4x, 0)"][piece]
 
 
@@ -51,7 +51,7 @@ H = Task("h", _h_cases, lambda c: colormaps.h(c.args[0]), scalar_judge(_h_hint, 
 
 def _f1_cases(rng, graded):
     xs = [-2.0, 0.0, 0.3, 1.0, 7.5] + list(np.round(rng.uniform(-2, 3, 4 if graded else 2), 3))
-    return [CaseSpec(f"f1({x:g})", (float(x),)) for x in xs]
+    return [CaseSpec(f"f1({number_list([x])})", (float(x),)) for x in xs]
 
 
 F1 = Task("f1", _f1_cases, lambda c: min(max(c.args[0], 0.0), 1.0),
@@ -60,12 +60,13 @@ F1 = Task("f1", _f1_cases, lambda c: min(max(c.args[0], 0.0), 1.0),
 
 
 def _f2_cases(rng, graded):
-    cases = [CaseSpec("f2(3, 1, 5)", (3.0, 1.0, 5.0)), CaseSpec("f2(-2, -2, 6)", (-2.0, -2.0, 6.0)),
-             CaseSpec(_("all values equal: f2(0.7, 0.7, 0.7)"), (0.7, 0.7, 0.7))]
+    # the arguments as the language writes them: "f2(0.7, 0.7, 0.7)", in German "f2(0,7; 0,7; 0,7)"
+    cases = [CaseSpec(f"f2({number_list(args)})", args) for args in ((3.0, 1.0, 5.0), (-2.0, -2.0, 6.0))]
+    cases.append(CaseSpec(_("all values equal: {call}").format(call=f"f2({number_list([0.7] * 3)})"), (0.7, 0.7, 0.7)))
     for _k in range(4 if graded else 1):
         lo, hi = sorted(rng.integers(-20, 20, 2) / 4)
         hi = hi + 1
-        cases.append(CaseSpec(f"f2(x, {lo:g}, {hi:g})", (float(rng.uniform(lo, hi)), float(lo), float(hi))))
+        cases.append(CaseSpec(f"f2({number_list(['x', lo, hi])})", (float(rng.uniform(lo, hi)), float(lo), float(hi))))
     return cases
 
 
@@ -89,13 +90,13 @@ F2 = Task("f2", _f2_cases, lambda c: 0.5 if c.args[2] == c.args[1] else (c.args[
 
 
 def _f3_cases(rng, graded):
-    cases = [CaseSpec(f"f3({x:g})", (x,)) for x in (-2.0, 0.0, 0.5)]
-    cases += [CaseSpec(_("rounding noise: f3({x})").format(x=f"{x:g}"), (x,)) for x in (1e-17, -3e-16)]
+    cases = [CaseSpec(f"f3({number_list([x])})", (x,)) for x in (-2.0, 0.0, 0.5)]
+    cases += [CaseSpec(_("rounding noise: f3({x})").format(x=number_list([x])), (x,)) for x in (1e-17, -3e-16)]
     # the tolerance belongs to the model (its size): a fixed one in the function fails one of these
     cases += [CaseSpec(_("a large model's genuine small value: f3(3e-12, tol=1e-14)"), (3e-12, 1e-14)),
               CaseSpec(_("a coarse model's rounding noise: f3(-4e-7, tol=1e-6)"), (-4e-7, 1e-6))]
     if graded:
-        cases += [CaseSpec(f"f3({x:g})", (x,)) for x in (-1e-3, 1e-4)]
+        cases += [CaseSpec(f"f3({number_list([x])})", (x,)) for x in (-1e-3, 1e-4)]
     return cases
 
 
@@ -111,12 +112,12 @@ def _f3_hint(args, val, exp):
     if abs(x) <= tol:
         if len(args) > 1:
             return _("|x| = {x} is below the tolerance tol = {tol} you were given: use tol, not a fixed number.").format(
-                x=f"{abs(x):g}", tol=f"{tol:g}")
+                x=decimal(f"{abs(x):g}"), tol=decimal(f"{tol:g}"))
         return _("computed curvature is rounding noise around 0 (a flat region gives K ≈ 1e-17): "
                  "compare |x| with the tolerance tol instead of x == 0.")
     if len(args) > 1:
         return _("tol = {tol} was given and |x| = {x} is larger: use the tolerance you are given, not a fixed one.").format(
-            tol=f"{tol:g}", x=f"{abs(x):g}")
+            tol=decimal(f"{tol:g}"), x=decimal(f"{abs(x):g}"))
     return _("f3 is 0 for negative, 0.5 for zero, 1 for positive values.")
 
 

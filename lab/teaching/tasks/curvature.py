@@ -6,7 +6,7 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
-from ...i18n import N_, _
+from ...i18n import N_, _, decimal
 from ..task import CaseSpec, Hint, Task, close, fmt
 from . import ANALYTIC_BLOCK
 from .hints import diagnose_indices, factor_hint, index_error_hint
@@ -57,7 +57,7 @@ def _number(value):
 
 def _warmup_cases(rng, graded):
     values = [(1.0, 1.0), (2.0, -2.0)] + [tuple(rng.integers(-20, 21, 2) / 4) for _ in range(4 if graded else 2)]
-    return [CaseSpec(_("H for k1 = {k1}, k2 = {k2}").format(k1=f"{k1:g}", k2=f"{k2:g}"), (float(k1), float(k2)))
+    return [CaseSpec(_("H for k1 = {k1}, k2 = {k2}").format(k1=decimal(f"{k1:g}"), k2=decimal(f"{k2:g}")), (float(k1), float(k2)))
             for k1, k2 in values]
 
 
@@ -65,14 +65,14 @@ def _warmup_judge(case, value, exp):
     k1, k2 = case.args
     got = _number(value)
     if got is None:
-        return False, f"{exp:g}", fmt(value), _("return one number.")
+        return False, decimal(f"{exp:g}"), fmt(value), _("return one number.")
     ok = abs(got - exp) <= 1e-12
     hint = ""
     if abs(got - (k1 + k2)) < 1e-12:
         hint = _("the mean of two numbers is their sum divided by 2.")
     elif abs(got - k1 * k2) < 1e-12:
         hint = _("k1 * k2 is the Gaussian curvature K; the mean curvature is (k1 + k2) / 2.")
-    return ok, f"{exp:g}", f"{got:g}", hint
+    return ok, decimal(f"{exp:g}"), decimal(f"{got:g}"), hint
 
 
 WARMUP = Task("warmup", _warmup_cases, lambda c: (c.args[0] + c.args[1]) / 2, _warmup_judge,
@@ -113,7 +113,7 @@ def _curve_judge(case, value, exact):
     d1, d2 = case.args
     val = _number(value)
     if val is None:
-        return False, _("a number ≈ {x}").format(x=f"{exact:.6g}"), fmt(value), _("return one number (a float).")
+        return False, _("a number ≈ {x}").format(x=decimal(f"{exact:.6g}")), fmt(value), _("return one number (a float).")
     ok = abs(val - exact) <= 1e-9 * max(1.0, abs(exact))
     hint = ""
     s1, cr = float(np.linalg.norm(d1)), float(np.linalg.norm(np.cross(d1, d2)))

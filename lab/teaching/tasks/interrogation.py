@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from ...i18n import N_, _
+from ...i18n import N_, _, decimal
 from ..task import CaseSpec, Task, close, scalar_judge
 
 __all__ = ["CHRISTOFFEL", "FOCAL_POINTS", "REFLECT", "START_VELOCITY"]
@@ -23,7 +23,7 @@ def _focal_cases(rng, graded):
         X = rng.integers(-8, 9, 3) / 4
         N = _unit(rng.normal(size=3))
         k1, k2 = sorted(rng.choice([-2, -1, -0.5, 0.25, 0.5, 1.0, 2.0, 4.0], 2, replace=False))[::-1]
-        name = _("random point {k} (k1 = {k1}, k2 = {k2})").format(k=k + 1, k1=f"{k1:g}", k2=f"{k2:g}")
+        name = _("random point {k} (k1 = {k1}, k2 = {k2})").format(k=k + 1, k1=decimal(f"{k1:g}"), k2=decimal(f"{k2:g}"))
         cases.append(CaseSpec(name, (X, N, float(k1), float(k2))))
     cases.append(CaseSpec(_("sphere of radius 2, outward normal (k1 = k2 = -1/2)"),
                           (np.array([0.0, 0.0, 2.0]), np.array([0.0, 0.0, 1.0]), -0.5, -0.5)))
@@ -163,7 +163,7 @@ def _start_hint(args, val, exp):
         return _("the direction is reversed: at α = 0 the path starts along +x_v.")
     if not math.isclose(speed, 1.0, rel_tol=1e-6):
         return _("the direction must have unit length on the surface: E u'² + 2F u'v' + G v'² = 1 "
-                 "(yours gives {speed}; eq. 14).").format(speed=f"{speed:.4g}")
+                 "(yours gives {speed}; eq. 14).").format(speed=decimal(f"{speed:.4g}"))
     return _("α is measured from x_v towards x_v⊥ = −G x_u + F x_v (eqs. 9, 10, 15).")
 
 
