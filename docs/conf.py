@@ -162,6 +162,12 @@ _gallery()
 _mathjax()
 
 
+def _theme_in_language(app, config):
+    """The theme's own words that pydata-sphinx-theme does not translate: its header's "More" menu."""
+    config.html_theme_options["header_dropdown_text"] = {"de": "Mehr"}.get(config.language, "More")
+
+
 def setup(app):
+    app.connect("config-inited", _theme_in_language)
     app.connect("builder-inited", _cli_help)
     app.connect("autodoc-process-docstring", _withheld_docstrings)

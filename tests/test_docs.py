@@ -115,6 +115,8 @@ def test_each_landing_page_links_the_other_language():
     german = (SITE / "de" / "index.html").read_text()
     assert 'href="de/index.html"' in english and 'href="../index.html"' in german
     assert "Studierende" in german and "Theorie" in german  # the German landing page is German
+    menu = re.compile(r'class="btn dropdown-toggle nav-item"[^>]*>\s*([^<\s]+)')  # the header's overflow menu
+    assert menu.findall(english) == ["More"] and menu.findall(german) == ["Mehr"]  # the theme does not translate it
 
 
 @built

@@ -58,7 +58,7 @@ def test_the_saved_picture_has_its_colour_bar_and_a_german_caption(explorers, tm
     with using("de"):
         text = caption(e)
         path, size = e.save_picture(tmp_path / "hood.png", width=960)
-    assert text.startswith("BSplineSurface: K, ") and "Bereich -2,511 … 1,844" in text, text
+    assert text.startswith("Motorhaube: K, ") and "Bereich -2,511 … 1,844" in text, text
     assert text.endswith("Kanten nach Stetigkeit: G3: 0, G2: 35, G1: 5, G0: 0, offen: 0"), text  # the overlay's legend
     assert size == (960, 600)
     image = read(path)
@@ -82,5 +82,5 @@ def test_bad_requests_are_refused(explorers, tmp_path):
 def test_captions_name_what_each_explorer_shows(explorers):
     """Without a colour bar the caption carries the legend's text (geodesics) or the explorer's settings (stripes)."""
     assert caption(explorers["geodesic"]).endswith("geodesics, polar isodistance curves at sL, 2 sL, … (sL = 0.5)")
-    assert caption(explorers["reflection"]) == "BSplineSurface: stripe box mapping, 8, light 0° / 60°"
+    assert caption(explorers["reflection"]) == "car hood: stripe box mapping, 8, light 0° / 60°"
     assert "; range " in caption(explorers["focal"])

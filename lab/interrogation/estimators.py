@@ -32,6 +32,7 @@ from ..geometry import discrete as _d
 from ..geometry import validation as _v
 from ..i18n import _, decimal
 from ..mesh.triangles import DIAGONALS, mesh_arrays, triangle_mesh
+from ..model.surface import label as surface_label
 from . import export
 
 __all__ = ["ESTIMATORS", "Convergence", "EstimatorTable", "compare_estimators", "convergence", "estimate",
@@ -274,5 +275,5 @@ def convergence(surface, sizes=(9, 17, 33, 65), *, estimator="lab", diagonals="r
     h = np.array(h)
     errors = {k: np.array(v) for k, v in errors.items()}
     orders = {k: fit_order(h, v, fit) for k, v in errors.items()}
-    label = name or getattr(surface, "name", None) or type(surface).__name__
+    label = name or surface_label(surface)
     return Convergence(label, estimator, diagonals, sizes, h, errors, orders, float(noise), fit)

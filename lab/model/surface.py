@@ -19,11 +19,28 @@ from ..geometry import tensor as _tensor
 from ..geometry import validation as _v
 from ..geometry.derivatives import THIRD, Derivatives
 from ..geometry.grids import Seams
-from ..i18n import _
+from ..i18n import N_, _
 from .checks import checked_derivatives
 from .patches import BezierPatches
 
 __all__ = ["BSplineSurface", "BezierSurface", "ParametricSurface", "Surface"]
+
+
+#: The lab's surface classes as people read them, for a surface without a name of its own (captions, tables).
+CLASS_NAMES = {"BezierSurface": N_("Bézier surface"), "BSplineSurface": N_("B-spline surface"),
+               "ParametricSurface": N_("parametric surface"), "BezierPatches": N_("Bézier patches"),
+               "TrimmedSurface": N_("trimmed surface")}
+
+
+def label(obj):
+    """The name people read for a surface (or a model, patches …) in captions and tables, in the lab's language: its
+    own ``name`` (the named surfaces of :mod:`lab.surfaces` have one: "torus", "car hood" …), else its class's
+    ("B-spline surface")."""
+    name = getattr(obj, "name", None)
+    if isinstance(name, str) and name:
+        return _(name)
+    kind = type(obj).__name__
+    return _(CLASS_NAMES[kind]) if kind in CLASS_NAMES else kind
 
 
 class Surface:
@@ -443,7 +460,7 @@ class ParametricSurface(Surface):
     domain : ((float, float), (float, float))
     """
 
-    def __init__(self, derivatives, domain, name="parametric surface"):
+    def __init__(self, derivatives, domain, name=CLASS_NAMES["ParametricSurface"]):
         if not callable(derivatives):
             raise TypeError(f"derivatives must be callable; got {type(derivatives).__name__}")
         self._func = derivatives
@@ -453,7 +470,7 @@ class ParametricSurface(Surface):
         self.parameters = None
 
     @classmethod
-    def from_sympy(cls, xyz, uv, domain, name="parametric surface"):
+    def from_sympy(cls, xyz, uv, domain, name=CLASS_NAMES["ParametricSurface"]):
         """Analytic surface from sympy expressions.
 
         Parameters

@@ -7,11 +7,13 @@ Every factory returns a surface object with the common interface of
 (catenoid, sine wave) are analytic :class:`lab.ParametricSurface` objects.
 """
 
+import functools
 import math
 
 import numpy as np
 
 from ..geometry.validation import COORDINATE_MAX, as_array, as_number, check_memory, format_count
+from ..i18n import N_
 from .surface import BezierSurface, BSplineSurface, ParametricSurface
 
 __all__ = [
@@ -36,6 +38,20 @@ __all__ = [
 
 _S = np.sqrt(0.5)
 
+
+def _named(name):
+    """The factory's surfaces get the ``name`` (English, marked for translation): captions, tables and messages
+    show it in the lab's language (:func:`lab.model.surface.label`)."""
+    def decorate(factory):
+        @functools.wraps(factory)
+        def make(*args, **kwargs):
+            surface = factory(*args, **kwargs)
+            surface.name = name
+            return surface
+        return make
+    return decorate
+
+
 #: The unit circle as a degree-2 NURBS with nine control points (The NURBS Book, example 7.2).
 _CIRCLE_XY = np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], dtype=float)
 _CIRCLE_W = np.array([1, _S, 1, _S, 1, _S, 1, _S, 1])
@@ -59,6 +75,7 @@ def practical_height(x, y):
     return x**2 / 5 + x * y / 4 + 10 / (1 + x**2 + y**2) + y / 2
 
 
+@_named(N_("practical surface"))
 def practical():
     """The example surface of the practical, built exactly as its course program builds it.
 
@@ -88,6 +105,7 @@ def practical():
     return BSplineSurface(P, knots, knots, 3, 3)
 
 
+@_named(N_("plane"))
 def plane(size=1.0):
     """The square ``[0, size]^2`` in the plane z = 0 as a bilinear Bézier patch (K = H = 0)."""
     size = as_number(size, "size", positive=True)
@@ -112,6 +130,7 @@ def _revolve(profile, weights, knots_profile, degree_profile, profile_first=True
     return BSplineSurface(P.transpose(1, 0, 2), _CIRCLE_KNOTS, knots_profile, 2, degree_profile, weights=W.T)
 
 
+@_named(N_("sphere"))
 def sphere(radius=1.0):
     """Sphere of ``radius`` centred at the origin, as an exact biquadratic NURBS.
 
@@ -129,6 +148,7 @@ def sphere(radius=1.0):
     return s
 
 
+@_named(N_("ellipsoid"))
 def ellipsoid(a=3.0, b=2.0, c=1.0):
     """The ellipsoid x²/a² + y²/b² + z²/c² = 1 as an exact biquadratic NURBS (the sphere's net, stretched).
 
@@ -171,6 +191,7 @@ def ellipsoid_umbilics(a=3.0, b=2.0, c=1.0):
     return out
 
 
+@_named(N_("torus"))
 def torus(R=2.0, r=1.0):
     """Torus with tube radius ``r`` around a circle of radius ``R`` in the xy plane, as an exact NURBS.
 
@@ -187,6 +208,7 @@ def torus(R=2.0, r=1.0):
     return s
 
 
+@_named(N_("cylinder"))
 def cylinder(r=1.0, h=2.0):
     """Cylinder of radius ``r`` and height ``h`` about the z axis (from z = 0), as an exact NURBS.
 
@@ -200,6 +222,7 @@ def cylinder(r=1.0, h=2.0):
     return s
 
 
+@_named(N_("cone"))
 def cone(radius=1.0, height=1.0):
     """A quarter of a cone as a bilinear-by-quadratic rational Bézier patch whose edge v = 1 collapses to the apex.
 
@@ -236,7 +259,7 @@ def catenoid(c=1.0, height=None):
     c, half = sp.nsimplify(c), sp.nsimplify(height) / 2
     u, v = sp.symbols("u v", real=True)
     xyz = (c * sp.cosh(v / c) * sp.cos(u), c * sp.cosh(v / c) * sp.sin(u), v)
-    s = ParametricSurface.from_sympy(xyz, (u, v), ((0, 2 * sp.pi), (-half, half)), name="catenoid")
+    s = ParametricSurface.from_sympy(xyz, (u, v), ((0, 2 * sp.pi), (-half, half)), name=N_("catenoid"))
     s.periodic = (True, False)
     return s
 
@@ -261,6 +284,7 @@ def _bezier_from_function(f, m, n):
     return np.stack([XX, YY, coeff], axis=-1)
 
 
+@_named(N_("saddle"))
 def saddle():
     """The hyperbolic paraboloid z = x² - y² over [-1, 1]² as a biquadratic Bézier patch (K < 0 everywhere)."""
     a = np.array([1.0, -1.0, 1.0])  # (2u-1)^2 in the Bernstein basis of degree 2
@@ -269,6 +293,7 @@ def saddle():
     return BezierSurface(np.stack([X, Y, a[:, None] - a[None, :]], axis=-1))
 
 
+@_named(N_("monkey saddle"))
 def monkey_saddle():
     """The monkey saddle z = x³ - 3xy² over [-1, 1]² as a bicubic Bézier patch (a flat point at the centre)."""
     return BezierSurface(_bezier_from_function(lambda x, y: x**3 - 3 * x * y**2, 3, 3))
@@ -293,11 +318,12 @@ def sine_wave(amplitude=0.5, frequency=1.0, radius=2 * np.pi):
     if radius > big:
         raise ValueError(f"radius must be at most {big:g} (the fundamental forms overflow beyond); got {radius:g}")
     xyz = (rho * sp.cos(phi), rho * sp.sin(phi), A * sp.cos(w * rho))
-    s = ParametricSurface.from_sympy(xyz, (rho, phi), ((0, float(radius)), (0, 2 * sp.pi)), name="sine wave")
+    s = ParametricSurface.from_sympy(xyz, (rho, phi), ((0, float(radius)), (0, 2 * sp.pi)), name=N_("sine wave"))
     s.periodic = (False, True)
     return s
 
 
+@_named(N_("car hood"))
 def hood():
     """A car-hood-like bicubic B-spline (right half, after Dill's figure 9) with a crease and a flat spot.
 
@@ -327,6 +353,7 @@ def hood():
     return BSplineSurface(P, ku, kv, 3, 3)
 
 
+@_named(N_("NURBS of Puig-Pey et al., figure 1"))
 def isodistance_sections_example():
     """The first NURBS of Puig-Pey et al. (§5, figure 1), reconstructed.
 
@@ -354,6 +381,7 @@ def isodistance_sections_example():
     return BSplineSurface(np.stack([X, Y, Z], axis=-1), ku, kv, 3, 3, weights=W)
 
 
+@_named(N_("NURBS of Puig-Pey et al., figures 2 and 3"))
 def isodistance_geodesics_example():
     """The second NURBS of Puig-Pey et al. (§5, figures 2–3), reconstructed.
 

@@ -11,6 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...i18n import N_, _
+from ...model.surface import CLASS_NAMES
 from .orientation import flip
 
 __all__ = ["Edge", "Face", "Model", "Problem"]
@@ -136,7 +137,8 @@ class Face:
 
 #: What a file stores (:attr:`Face.kind`, OpenCASCADE's type names) as people read it, in the lab's language.
 KIND_NAMES = {"Plane": N_("plane"), "Cylinder": N_("cylinder"), "Cone": N_("cone"), "Sphere": N_("sphere"),
-              "Torus": N_("torus"), "BezierSurface": N_("Bézier surface"), "BSplineSurface": N_("B-spline surface"),
+              "Torus": N_("torus"), "BezierSurface": CLASS_NAMES["BezierSurface"],
+              "BSplineSurface": CLASS_NAMES["BSplineSurface"],
               "SurfaceOfRevolution": N_("surface of revolution"), "SurfaceOfExtrusion": N_("extrusion"),
               "OffsetSurface": N_("offset surface"), "OtherSurface": N_("other surface")}
 

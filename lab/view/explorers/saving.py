@@ -12,6 +12,7 @@ import re
 import ipywidgets as W
 
 from ...i18n import _, decimal
+from ...model.surface import label
 from .. import style
 from .controls import _layout, style_for
 from .edges import edge_legend_html
@@ -35,9 +36,8 @@ def caption(explorer):
     """The picture's caption: the surface's name, the explorer's title (measure, map, …) and the colour range; an
     explorer without a colour bar adds its legend's text (the geodesics' line kinds), and a shown edge overlay the
     number of edges of each level."""
-    source = getattr(explorer, "source", None)
-    name = getattr(source, "name", None) or type(source).__name__
-    text = _("{surface}: {title}").format(surface=name, title=explorer.picture_title())
+    text = _("{surface}: {title}").format(surface=label(getattr(explorer, "source", None)),
+                                          title=explorer.picture_title())
     legend = explorer.legend()
     clim = getattr(legend, "clim", None)
     if clim is not None:
