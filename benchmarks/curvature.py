@@ -35,6 +35,11 @@ shared: read the ratios, and the load average printed first):
    point, with the largest angle between the two.
 5. **Continuity.**  ``lab.continuity`` of the practical's B-spline and of its
    Bézier patches refined 0 … 4 times (12 544 patches, 24 864 borders).
+6. **Third derivatives on real parts.**  The faces' third derivatives at every
+   sample of every shared edge (what G3 of ``lab.continuity`` compares), one
+   call per face, against OpenCASCADE's ``Geom_Surface::D3`` called point by
+   point on the file's own surfaces, with the largest difference; and what G3
+   adds to the whole report of each part.
 
 Usage: python benchmarks/curvature.py [--points 100000 1000000] [--occt-points 100000] [--max-depth 7]
        [--loop-max-depth 4] [--resolutions 57 113 225 449] [--rounds 9] [--quick]
@@ -472,6 +477,70 @@ def continuity_table(args):
 
 
 
+def third_table(args):
+    print("\n6. Third derivatives at a model's edge samples (G3 across its face edges) against OCCT's D3 point by point")
+    from OCP.BRep import BRep_Tool
+    from OCP.gp import gp_Pnt, gp_Vec
+
+    from lab.interrogation.cad.models import impeller_path
+    from lab.model import reparametrized, surface
+    from tests.occ_support import occ_faces
+
+    header = (f"{'part':<14} {'samples':>8} | {'ours [ms]':>9} {'OCCT [ms]':>9} {'OCCT/ours':>9} | {'max diff':>8} | "
+              f"{'report [s]':>10} {'without G3':>10} {'G3 edges':>8}")
+    print(header)
+    print("-" * len(header))
+    data = os.environ.get("LAB_OCC_DATA", "/usr/share/opencascade/data")
+    for name, path in (("shell1.brep", os.path.join(data, "occ", "shell1.brep")),
+                       ("linkrods.step", os.path.join(data, "step", "linkrods.step")),
+                       ("impeller.igs", impeller_path())):
+        model = lab.read(path)
+        edges = [e for e in model.edges if len(e.faces) == 2]
+        wanted = {}
+        for e in edges:
+            for index, uv in zip(e.faces, e.uv):
+                wanted.setdefault(index, []).append(np.asarray(uv, dtype=float))
+        wanted = {i: np.concatenate(x) for i, x in wanted.items()}
+        n = sum(len(x) for x in wanted.values())
+        ours = {}
+
+        def lab_side():
+            for i, uv in wanted.items():
+                ours[i] = np.stack(model.face(i).file_surface.third_derivatives(uv[:, 0], uv[:, 1]), axis=1)
+
+        geoms = [BRep_Tool.Surface_s(f) for f in occ_faces(path)]
+        theirs = {}
+
+        def occt_side():
+            point, vectors = gp_Pnt(), [gp_Vec() for _ in range(9)]
+            for i, uv in wanted.items():
+                rows = []
+                for u, v in uv:
+                    geoms[i].D3(float(u), float(v), point, *vectors)
+                    rows.append([[x.X(), x.Y(), x.Z()] for x in (vectors[5], vectors[7], vectors[8], vectors[6])])
+                theirs[i] = np.array(rows)
+
+        t_ours, t_occt = best_time(lab_side, max_runs=3), best_time(occt_side, max_runs=3)
+        diff = max(float(np.max(np.abs(ours[i] - theirs[i]).max(axis=(1, 2)) / np.abs(theirs[i]).max(axis=(1, 2))))
+                   for i in wanted)
+        t_report = best_time(lambda: lab.continuity(model), max_runs=2)
+        g3 = lab.continuity(model).counts().get("G3", 0)
+        kept = surface._SplineSurface.third_derivatives, reparametrized.ReparametrizedSurface.third_derivatives
+
+        def none(self, u, v):
+            raise NotImplementedError
+
+        surface._SplineSurface.third_derivatives = reparametrized.ReparametrizedSurface.third_derivatives = none
+        try:
+            t_without = best_time(lambda: lab.continuity(model), max_runs=2)
+        finally:
+            surface._SplineSurface.third_derivatives, reparametrized.ReparametrizedSurface.third_derivatives = kept
+        print(f"{name:<14} {n:>8} | {1e3 * t_ours:9.1f} {1e3 * t_occt:9.1f} {t_occt / t_ours:8.1f}x | {diff:8.1e} | "
+              f"{t_report:10.2f} {t_without:10.2f} {g3:>8}")
+    print("   max diff: relative to each sample's largest component; ours: one call per face (NURBS: basis "
+          "functions' third derivatives and the quotient rule; analytic faces: the chain rule with the parameter maps)")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, nargs="+", default=[100_000, 1_000_000])
@@ -484,14 +553,15 @@ def main():
     parser.add_argument("--quick", action="store_true", help="1e5 points, grids up to 225, depths up to 5")
     parser.add_argument("--direction-points", type=int, default=100_000, help="points of the directions table")
     parser.add_argument("--continuity-depth", type=int, default=4, help="refine the practical's patches up to this")
-    parser.add_argument("--only", choices=["points", "meshes", "practical", "directions", "continuity"], nargs="+")
+    parser.add_argument("--only", choices=["points", "meshes", "practical", "directions", "continuity", "third"],
+                        nargs="+")
     args = parser.parse_args()
     if args.quick:
         args.points, args.resolutions, args.max_depth = [100_000], [57, 113, 225], 5
     warnings.simplefilter("ignore")
     rng = np.random.default_rng(0)
     print(load())
-    tables = args.only or ["points", "meshes", "practical", "directions", "continuity"]
+    tables = args.only or ["points", "meshes", "practical", "directions", "continuity", "third"]
     if "points" in tables:
         points_table(args, rng)
     if "meshes" in tables:
@@ -502,6 +572,8 @@ def main():
         directions_table(args, rng)
     if "continuity" in tables:
         continuity_table(args)
+    if "third" in tables:
+        third_table(args)
     print("\n" + load())
 
 

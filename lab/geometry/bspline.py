@@ -245,8 +245,8 @@ def partial_derivatives(P, knots_u, knots_v, degree_u, degree_v, weights, u, v, 
     rows = (su - p)[:, None] + np.arange(p + 1)[None, :]
     cols = (sv - q)[:, None] + np.arange(q + 1)[None, :]
     C = Pw[rows[:, :, None], cols[:, None, :]]  # (k, p+1, q+1, d)
-    A = {(i, j): np.einsum("ka,kb,kabd->kd", Nu[:, i], Nv[:, j], C)
-         for i in range(order + 1) for j in range(order + 1 - i)}
+    X = np.einsum("kjb,kibd->kijd", Nv, np.einsum("kia,kabd->kibd", Nu, C))  # (k, order+1, order+1, d)
+    A = {(i, j): X[:, i, j] for i in range(order + 1) for j in range(order + 1 - i)}
     return A if weights is None else quotient_rule(A, order)
 
 
