@@ -80,7 +80,38 @@ def test_bad_requests_are_refused(explorers, tmp_path):
 
 
 def test_captions_name_what_each_explorer_shows(explorers):
-    """Without a colour bar the caption carries the legend's text (geodesics) or the explorer's settings (stripes)."""
-    assert caption(explorers["geodesic"]).endswith("geodesics, polar isodistance curves at sL, 2 sL, … (sL = 0.5)")
+    """The caption names the surface and the explorer's settings; a colour bar's range is added, a swatch legend is
+    drawn beside the picture instead (geodesics, stripes), light lines need none."""
+    assert caption(explorers["geodesic"]) == "plane: geodesic explorer"
     assert caption(explorers["reflection"]) == "car hood: stripe box mapping, 8, light 0° / 60°"
     assert "; range " in caption(explorers["focal"])
+
+
+def test_pictures_without_a_colour_bar_draw_their_swatches(explorers, tmp_path):
+    """The geodesics' two kinds of line and the stripe box's six walls as swatches in the saved picture's legend
+    column (right of the view), in the very colours the view draws them with; in German too."""
+    from lab.interrogation.reflection import DEFAULT_COLORS
+    from lab.view.figures import CLOSED_COLOR, PATH_COLOR
+
+    def legend_colours(image, colours):
+        column = image[:, int(0.71 * image.shape[1]):].reshape(-1, 3).astype(int)  # right of the view
+        return [int(np.count_nonzero(np.all(np.abs(column - c) <= 1, axis=1))) for c in colours]
+
+    hexes = [[int(c[k:k + 2], 16) for k in (1, 3, 5)] for c in (PATH_COLOR, CLOSED_COLOR)]
+    walls = [[round(255 * x) for x in rgb] for rgb in DEFAULT_COLORS]
+    for lang in ("en", "de"):
+        with using(lang):
+            geodesic = read(explorers["geodesic"].save_picture(tmp_path / f"fan_{lang}.png", width=960)[0])
+            stripes = read(explorers["reflection"].save_picture(tmp_path / f"box_{lang}.png", width=960)[0])
+        assert min(legend_colours(geodesic, hexes)) >= 100, legend_colours(geodesic, hexes)  # a 12 x 12 px swatch each
+        assert min(legend_colours(stripes, walls)) >= 100, legend_colours(stripes, walls)
+    legend = explorers["geodesic"].picture_legend()
+    assert [label for label, _c in legend.classes] == ["6 geodesics", "polar isodistance curves"]
+    assert legend.note == "at $s_L$, $2 s_L$, … ($s_L$ = 0.5)"
+    with using("de"):
+        assert explorers["geodesic"].picture_legend().note == "bei $s_L$, $2 s_L$, … ($s_L$ = 0,5)"
+    explorers["reflection"].kind.value = "lines"
+    try:
+        assert explorers["reflection"].picture_legend() is None  # light lines: no colours to explain
+    finally:
+        explorers["reflection"].kind.value = "stripes"

@@ -310,9 +310,13 @@ def compose(image, frame, *, title=None, legend=None):
                                              transform=fig.transFigure, facecolor=colour, edgecolor="#555555",
                                              linewidth=0.8))
                 fig.text((x0 + 1.6 * px) / W, 1 - cy / H, label, ha="left", va="center", fontsize=fs, color="#1f2328")
-            if legend.note:
-                fig.text(x0 / W, 1 - (top + (n + 0.5) * row) / H, legend.note, ha="left", va="center",
-                         fontsize=fs * 0.8, color="#57606a")
+            if legend.note:  # wrapped to the picture's right edge (one line stays where it always was)
+                import textwrap
+
+                lines = textwrap.wrap(legend.note, max(12, int((W - x0) / (0.6 * 0.8 * px))))
+                y = top + (n + 0.5) * row - (0.5 * 0.8 * px if len(lines) > 1 else 0.0)
+                fig.text(x0 / W, 1 - y / H, "\n".join(lines), ha="left", va="top" if len(lines) > 1 else "center",
+                         fontsize=fs * 0.8, color="#57606a", linespacing=1.2)
     canvas.draw()
     out = np.asarray(canvas.buffer_rgba())[..., :3].copy()
     return out

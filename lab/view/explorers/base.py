@@ -427,9 +427,13 @@ class Explorer:
             self.plotter.render()
             return np.asarray(self.plotter.screenshot(None, return_img=True))[..., :3]
 
+    def picture_legend(self):
+        """The legend beside :meth:`picture`: :meth:`legend`, or swatches where there is no colour bar."""
+        return self.legend()
+
     def picture(self, size=None, title=None):
         """The view in the lab's picture style (title, colour bar or legend) as an RGB array."""
-        legend = self.legend()
+        legend = self.picture_legend()
         if legend is not None:
             legend = legend.simulated(deficiency(self.vision))
         title = self.picture_title() if title is None else title

@@ -24,6 +24,7 @@ from ...interrogation.meshes import (
 from ...interrogation.reflection import DEFAULT_COLORS, VIEW_DIRECTION
 from .. import legend as _legend
 from .. import style
+from ..figures import CLOSED_COLOR, PATH_COLOR
 from .base import Explorer, _dropdown, _layout, _Note, _polylines, checkpoint, style_for
 from .controls import float_slider, full_row_text
 from .edges import EdgeOverlay
@@ -133,6 +134,13 @@ def stripe_legend_html():
         items.append(f"{swatch} {html.escape(_(wall))}")
     text = html.escape(_("the colour says which wall of the box a point reflects; white: the gaps between stripes"))
     return f"<small>{' &nbsp; '.join(items)}<br>{text}</small>"
+
+
+def stripe_legend():
+    """The stripe box's walls as swatches beside a saved picture (:func:`stripe_legend_html` under the controls)."""
+    return _legend.Legend(title=_("stripe box"), classes=tuple((_(wall), tuple(float(x) for x in rgb))
+                                                              for rgb, wall in zip(DEFAULT_COLORS, STRIPE_WALLS)),
+                          note=_("white: the gaps between stripes"))
 
 
 class ReflectionExplorer(Explorer):
@@ -253,6 +261,10 @@ class ReflectionExplorer(Explorer):
         self.overlay = new
         self.refresh()
 
+    def picture_legend(self):
+        """The stripe box's walls beside a picture of the stripe box mapping (the lines need no legend)."""
+        return stripe_legend() if self.kind.value == "stripes" else None
+
     def picture_title(self):
         """What the picture shows: stripes, light lines or isophotes, how many, and the light's direction."""
         kinds = {v: k for k, v in self.kind.options}
@@ -360,9 +372,19 @@ class GeodesicExplorer(Explorer):
         kind = _("geodesics") if self.kind.value == "geodesic" else _("normal sections")
         curves = html.escape(_("polar isodistance curves at"))
         return (f'<div class="lab-legend" style="font-size:12px;text-align:center">'
-                f'<span style="color:#1f3b73;font-weight:700">━</span> {len(self.fan or [])} {kind} &nbsp; '
-                f'<span style="color:#d62728;font-weight:700">━</span> {curves} '
-                f's<sub>L</sub>, 2 s<sub>L</sub>, … (s<sub>L</sub> = {self.step.value:g})</div>')
+                f'<span style="color:{PATH_COLOR};font-weight:700">━</span> {len(self.fan or [])} {kind} &nbsp; '
+                f'<span style="color:{CLOSED_COLOR};font-weight:700">━</span> {curves} '
+                f's<sub>L</sub>, 2 s<sub>L</sub>, … (s<sub>L</sub> = {decimal(f"{self.step.value:g}")})</div>')
+
+    def picture_legend(self):
+        """The two kinds of line as swatches beside a saved picture (the view below has them as text)."""
+        if self.fan is None:
+            return None
+        kind = _("geodesics") if self.kind.value == "geodesic" else _("normal sections")
+        rgb = [tuple(int(c[k:k + 2], 16) / 255 for k in (1, 3, 5)) for c in (PATH_COLOR, CLOSED_COLOR)]
+        return _legend.Legend(title=_("lines"), classes=((f"{len(self.fan)} {kind}", rgb[0]),
+                                                         (_("polar isodistance curves"), rgb[1])),
+                              note=decimal(_("at $s_L$, $2 s_L$, … ($s_L$ = {step})").format(step=f"{self.step.value:g}")))
 
     def _angles(self):
         lo, hi = self.angle_range.value
@@ -406,9 +428,9 @@ class GeodesicExplorer(Explorer):
         curves = [(piece.points, piece.uv) for pieces in iso for piece in pieces if len(piece.points) > 1]
         self.iso_mesh.copy_from(_polylines(self._lifted(curves)), deep=True)
         if self.paths_actor is None and self.paths_mesh.n_points:
-            self.paths_actor = self.plotter.add_mesh(self.paths_mesh, color="#1f3b73", line_width=1.5)
+            self.paths_actor = self.plotter.add_mesh(self.paths_mesh, color=PATH_COLOR, line_width=1.5)
         if self.iso_actor is None and self.iso_mesh.n_points:
-            self.iso_actor = self.plotter.add_mesh(self.iso_mesh, color="#d62728", line_width=2.5)
+            self.iso_actor = self.plotter.add_mesh(self.iso_mesh, color=CLOSED_COLOR, line_width=2.5)
         self.domain_view.value = self._domain_svg(fan, iso, length)
         reached = [d for d, pieces in zip(distances, iso) if pieces]
         short = [p for p in fan if p.length < length * (1 - 1e-9)]
@@ -471,10 +493,10 @@ class GeodesicExplorer(Explorer):
                 parts.append(f'<polygon points="{xy(loop)}" fill="none" stroke="#57606a" stroke-width="1.2"/>')
         for p in fan:
             keep = p.s <= length * (1 + 1e-9)
-            parts.append(f'<polyline points="{xy(p.uv[keep])}" fill="none" stroke="#1f3b73" stroke-width="0.8"/>')
+            parts.append(f'<polyline points="{xy(p.uv[keep])}" fill="none" stroke="{PATH_COLOR}" stroke-width="0.8"/>')
         for pieces in iso:
             for piece in pieces:
-                parts.append(f'<polyline points="{xy(piece.uv)}" fill="none" stroke="#d62728" stroke-width="1.6"/>')
+                parts.append(f'<polyline points="{xy(piece.uv)}" fill="none" stroke="{CLOSED_COLOR}" stroke-width="1.6"/>')
         ox, oy = xy(np.asarray(fan.origin, dtype=float)[None]).split(",")
         box = (f'<rect x="{left}" y="{m - 10}" width="{pw}" height="{ph}" fill="none" '
                'stroke="#57606a" stroke-width="1"/>')

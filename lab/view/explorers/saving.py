@@ -34,11 +34,11 @@ def _plain(markup):
 
 def caption(explorer):
     """The picture's caption: the surface's name, the explorer's title (measure, map, …) and the colour range; an
-    explorer without a colour bar adds its legend's text (the geodesics' line kinds), and a shown edge overlay the
-    number of edges of each level."""
+    explorer whose picture has no legend adds its legend's text, and a shown edge overlay the number of edges of
+    each level."""
     text = _("{surface}: {title}").format(surface=label(getattr(explorer, "source", None)),
                                           title=explorer.picture_title())
-    legend = explorer.legend()
+    legend = explorer.picture_legend()
     clim = getattr(legend, "clim", None)
     if clim is not None:
         text += decimal(_("; range {lo} … {hi}").format(lo=f"{clim[0]:.4g}", hi=f"{clim[1]:.4g}"))
