@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+import lab.i18n
 from lab import colormaps as cm
 
 
@@ -56,6 +57,10 @@ def test_dill_five_bands_of_figure_6():
     assert list(cm.dill_names([-1.0, -0.5, -0.2, 0.0, 0.2], -0.07 * a, 0.03 * a)) == [
         "blue", "turquoise", "green", "yellow", "red"]
     assert cm.dill_names(np.zeros((2, 3))).shape == (2, 3)
+    # in German the same bands by their German names (notebook 09 prints them), the English above unchanged
+    with lab.i18n.using("de"):
+        assert list(cm.dill_names(values)) == ["blau", "türkis", "grün", "gelb", "rot", "blau", "rot"]
+    assert list(cm.dill_names(values)) == names
 
 
 def test_own_designs():

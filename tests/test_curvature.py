@@ -213,6 +213,12 @@ def test_classify_tolerance_and_errors():
     )
     with pytest.raises(ValueError, match="tol must be >= 0; got -1"):
         lab.curvature.classify(k1, k2, tol=-1)
+    # the classes' labels for people, in the lab's language; names and values (what code compares) stay
+    assert [c.label for c in PointClass] == ["hyperbolic", "flat", "parabolic", "elliptic"]
+    with lab.i18n.using("de"):
+        assert [c.label for c in PointClass] == ["hyperbolisch", "flach", "parabolisch", "elliptisch"]
+        assert [(c.name, int(c)) for c in PointClass] == [("HYPERBOLIC", -1), ("FLAT", 0), ("PARABOLIC", 1),
+                                                           ("ELLIPTIC", 2)]
 
 
 def test_parametric_surface_errors():

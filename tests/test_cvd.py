@@ -108,6 +108,16 @@ def test_an_image_is_simulated_pixel_by_pixel_and_keeps_its_alpha():
     np.testing.assert_array_equal(seen[..., :3], np.broadcast_to(want, (2, 3, 3)))
 
 
+def test_the_visions_are_named_in_the_labs_language():
+    import lab.i18n
+
+    assert [vision.name(v) for v in vision.VISIONS] == ["normal", "protanopia", "deuteranopia", "tritanopia"]
+    with lab.i18n.using("de"):  # notebook 04's table of smallest steps
+        assert [vision.name(v) for v in vision.VISIONS] == ["normal", "Protanopie", "Deuteranopie", "Tritanopie"]
+    with pytest.raises(ValueError, match="vision must be None or one of protanopia, deuteranopia, tritanopia; got 'x'"):
+        vision.name("x")
+
+
 def test_a_picture_as_a_deuteranope_sees_it(tmp_path):
     """render.picture(simulate=…) is the normal picture simulated, with a note in its legend saying so; the
     command line's --simulate writes it."""

@@ -4,6 +4,7 @@
 import numpy as np
 import pytest
 
+import lab.i18n
 from lab.geometry import discrete as D
 from lab.interrogation import estimators as E
 from lab.mesh import mesh_arrays, triangle_mesh
@@ -83,6 +84,11 @@ def test_convergence_orders_and_table():
     assert abs(rough.orders["K", "inside"]) < 0.3  # no convergence without symmetric neighbourhoods
     lines = str(torus).splitlines()
     assert lines[0] == "torus, lab, diagonals regular: largest relative error" and "order p" in lines[-1]
+    # in German the header names the diagonals in German (notebook 13 prints it); the value passed stays English
+    with lab.i18n.using("de"):
+        assert str(rough).splitlines()[0].endswith(", lab, Diagonalen abwechselnd: größter relativer Fehler")
+        assert [E.diagonals_name(d) for d in E.DIAGONAL_NAMES] == ["regelmäßig", "abwechselnd", "zufällig"]
+    assert rough.diagonals == "alternating" and E.diagonals_name("random") == "random"
     assert E.fit_order([0.4, 0.2, 0.1], [16.0, 4.0, 1.0]) == pytest.approx(2, abs=1e-12)
     with pytest.raises(ValueError, match=r"a convergence study needs at least two mesh sizes; got \[9\]"):
         E.convergence(surfaces.torus(), (9,))

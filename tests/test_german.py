@@ -57,7 +57,11 @@ ENGLISH = {"the", "of", "and", "is", "are", "with", "from", "your", "you", "not"
            "gaussian", "surface", "implemented", "expected", "got", "passed", "failed", "case", "cases", "holes",
            "outer", "loop", "region", "triangles", "nodes", "angle", "vertices", "lines", "line", "warning",
            "removed", "distance", "axis", "length", "end", "start", "sections", "geodesics", "area", "areas",
-           "explorer", "picture", "notebook", "interactive", "view", "control", "degree", "rational"}
+           "explorer", "picture", "notebook", "interactive", "view", "control", "degree", "rational",
+           # Dill's colours (lab.colormaps.dill_names), the point classes (PointClass.label), the meshes' diagonals
+           # (estimators.diagonals_name), the colour-vision deficiencies (lab.vision.name)
+           "blue", "turquoise", "green", "yellow", "red", "hyperbolic", "parabolic", "elliptic", "flat", "regular",
+           "alternating", "random", "protanopia", "deuteranopia", "tritanopia"}
 #: words that are English and allowed: code identifiers and names a German text uses as they are
 #: ("Patch" and "Start" are German words too)
 ALLOWED = {"lab", "signed", "log", "signed-log", "off", "coff", "cbez333", "jupyterlab", "explorer", "patch", "start"}
@@ -82,6 +86,11 @@ def test_the_english_check_finds_english_and_skips_code():
     assert english_words("die Spitze: largest K at the corner") == ["largest", "at", "the", "corner"]
     assert english_words("TrimmedSurface(BSplineSurface(...)) mit set_curvature und lab.render.show") == []
     assert english_words("Ihr visualize_curvature auf 196 Patches; Werte −2,1 … 36,7") == []
+    assert english_words("Äquator außen   u =  0,0: K = +0,1111 -> yellow") == ["yellow"]
+    assert english_words("HYPERBOLIC     25,0 % der Abtastpunkte") == ["hyperbolic"]
+    assert english_words("Torus  alternating: innen, Ordnung von K +2,00") == ["alternating"]
+    assert english_words("deuteranopia  kleinster Schritt  10,6") == ["deuteranopia"]
+    assert english_words("Äquator außen   u =  0,0: K = +0,1111 -> gelb; hyperbolisch; Torus abwechselnd") == []
 
 
 def _outputs(nb):

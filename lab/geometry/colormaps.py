@@ -30,6 +30,7 @@ import math
 
 import numpy as np
 
+from ..i18n import N_, _
 from . import palettes
 from . import validation as _v
 from .validation import as_number
@@ -71,8 +72,9 @@ DILL_COLORS = np.array(
         [1.0, 0.0, 0.0],  # red
     ]
 )
-#: The names of Dill's colours, in the order of :data:`DILL_COLORS`.
-DILL_NAMES = ("blue", "turquoise", "green", "yellow", "red")
+#: The names of Dill's colours, in the order of :data:`DILL_COLORS` (English, marked for translation: :func:`dill_names`
+#: gives them in the lab's language).
+DILL_NAMES = (N_("blue"), N_("turquoise"), N_("green"), N_("yellow"), N_("red"))
 #: Dill's default curvature range, five bands of width 0.02.
 DILL_RANGE = (-0.07, 0.03)
 
@@ -289,12 +291,14 @@ def dill(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
 
 
 def dill_names(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):
-    """The names of the colours :func:`dill` gives ``x`` ("blue" … "red"), as a string array of ``x``'s shape.
+    """The names of the colours :func:`dill` gives ``x`` ("blue" … "red"), as a string array of ``x``'s shape, in the
+    lab's language (German "blau" … "rot" after ``lab.set_language("de")``).
 
     With Dill's default range: ``dill_names([-0.06, 0.0, 0.02])`` is
     ``["blue", "yellow", "red"]`` – zero curvature is yellow, red means K > 0.01.
     """
-    return np.array(DILL_NAMES)[_dill_band(x, vmin, vmax)]
+    band = _dill_band(x, vmin, vmax)
+    return np.array([_(name) for name in DILL_NAMES])[band]
 
 
 def dill_batlow(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):

@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..i18n import _, decimal, language
+from ..i18n import N_, _, decimal, language
 from . import validation as _v
 from .colormaps import ZERO_TOL
 
@@ -165,6 +165,17 @@ class PointClass(enum.IntEnum):
     FLAT = 0  #: K = 0 = k1 = k2 (Flachpunkt)
     PARABOLIC = 1  #: K = 0, not both principal curvatures 0
     ELLIPTIC = 2  #: K > 0
+
+    @property
+    def label(self):
+        """The class as people read it, in the lab's language ("hyperbolic", German "hyperbolisch"); the member's
+        name and value stay what code compares."""
+        return _(_POINT_CLASS_LABELS[self])
+
+
+#: the point classes' names for people, marked for translation (:attr:`PointClass.label`)
+_POINT_CLASS_LABELS = {PointClass.HYPERBOLIC: N_("hyperbolic"), PointClass.FLAT: N_("flat"),
+                       PointClass.PARABOLIC: N_("parabolic"), PointClass.ELLIPTIC: N_("elliptic")}
 
 
 def _dot(a, b):

@@ -16,10 +16,10 @@ import functools
 
 import numpy as np
 
-from ..i18n import N_
+from ..i18n import N_, _
 
-__all__ = ["DEFICIENCIES", "NAMES", "VISIONS", "MapMeasure", "delta_e", "lightness", "measure", "monotonic", "simulate",
-           "simulate_image", "smallest_difference"]
+__all__ = ["DEFICIENCIES", "NAMES", "VISIONS", "MapMeasure", "delta_e", "lightness", "measure", "monotonic", "name",
+           "simulate", "simulate_image", "smallest_difference"]
 
 #: The simulated deficiencies -> colorspacious's ``cvd_type`` (at severity 100 the anomaly is the -opia).
 DEFICIENCIES = {"protanopia": "protanomaly", "deuteranopia": "deuteranomaly", "tritanopia": "tritanomaly"}
@@ -27,6 +27,16 @@ DEFICIENCIES = {"protanopia": "protanomaly", "deuteranopia": "deuteranomaly", "t
 NAMES = {"protanopia": N_("protanopia"), "deuteranopia": N_("deuteranopia"), "tritanopia": N_("tritanopia")}
 #: Normal vision (None) and the three deficiencies, in the order tables list them.
 VISIONS = (None, *DEFICIENCIES)
+#: Normal vision as a table names it (marked for translation).
+NORMAL = N_("normal")
+
+
+def name(vision):
+    """A vision of :data:`VISIONS` as a student reads it, in the lab's language: None is "normal", a deficiency its
+    name (German "Deuteranopie" for "deuteranopia")."""
+    if vision is not None and vision not in NAMES:
+        raise ValueError(f"vision must be None or one of {', '.join(NAMES)}; got {vision!r}")
+    return _(NORMAL if vision is None else NAMES[vision])
 
 
 @functools.cache

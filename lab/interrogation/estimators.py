@@ -30,13 +30,13 @@ import numpy as np
 
 from ..geometry import discrete as _d
 from ..geometry import validation as _v
-from ..i18n import _, decimal
+from ..i18n import N_, _, decimal
 from ..mesh.triangles import DIAGONALS, mesh_arrays, triangle_mesh
 from ..model.surface import label as surface_label
 from . import export
 
-__all__ = ["ESTIMATORS", "Convergence", "EstimatorTable", "compare_estimators", "convergence", "estimate",
-           "mesh_errors", "mesh_size"]
+__all__ = ["DIAGONAL_NAMES", "ESTIMATORS", "Convergence", "EstimatorTable", "compare_estimators", "convergence",
+           "diagonals_name", "estimate", "mesh_errors", "mesh_size"]
 
 #: The estimators :func:`estimate` knows, in the order of the tables.
 ESTIMATORS = ("lab", "VTK", "libigl", "libigl quadric", "trimesh")
@@ -46,6 +46,15 @@ _PACKAGES = {"libigl": "libigl", "libigl quadric": "libigl", "trimesh": "trimesh
 REGIONS = ("inside", "boundary")
 #: The share of the parameter domain's side that separates "inside" from the boundary.
 MARGIN = 0.1
+#: The ways of splitting the grid's quads (:data:`lab.mesh.triangles.DIAGONALS`) as people read them, marked for
+#: translation (:func:`diagonals_name`).
+DIAGONAL_NAMES = {"regular": N_("regular"), "alternating": N_("alternating"), "random": N_("random")}
+
+
+def diagonals_name(diagonals):
+    """``diagonals`` ("regular", "alternating", "random") as tables and notebooks write it, in the lab's language
+    (German "regelmäßig", "abwechselnd", "zufällig"); the value a student passes stays the English one."""
+    return _(DIAGONAL_NAMES[diagonals]) if diagonals in DIAGONAL_NAMES else diagonals
 
 
 def mesh_size(mesh):
@@ -219,7 +228,7 @@ class Convergence:
                  ("H", "boundary"): _("H boundary")}
         grid, order = _("grid"), _("order p")
         lines = [_("{surface}, {estimator}, diagonals {diagonals}: largest relative error").format(
-                     surface=self.surface, estimator=self.estimator, diagonals=self.diagonals),
+                     surface=self.surface, estimator=self.estimator, diagonals=diagonals_name(self.diagonals)),
                  f"{grid:>9} {'h':>9}" + "".join(f"{names[k]:>12}" for k in keys)]
         for n, h, *errors in zip(self.sizes, self.h, *(self.errors[k] for k in keys)):
             lines.append(f"{n:>4} × {n:<3} {decimal(f'{h:.3g}'):>9}" + "".join(f"{_number(e):>12}" for e in errors))
