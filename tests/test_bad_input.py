@@ -408,3 +408,13 @@ def test_found_at_seed_1_a_class_for_the_explorer_and_a_huge_int_angle():
         lab.CurvatureExplorer(lab.BezierSurface, window_size=(64, 48), live=False)
     with pytest.raises(ValueError, match="angle must be finite .* beyond the float range"):
         lab.normal_section(surfaces.torus(), (0.1, 0.1), 10**400, 1.0)
+
+
+def test_a_subnormal_size_is_refused_with_the_smallest_normal_float():
+    """A positive size below 2.2e-308 (a subnormal float, whose reciprocal overflows to inf) is refused by name."""
+    for make, name in ((lambda: lab.surfaces.torus(r=5e-324), "r"), (lambda: lab.surfaces.sphere(1e-310), "radius")):
+        with pytest.raises(ValueError, match=rf"^{name} must be a positive number of at least 2\.23e-308 \(the smallest "
+                                             r"normal float\); got .*, a subnormal number whose reciprocal is infinite"):
+            make()
+    with pytest.warns(DegeneratePointWarning):  # a normal but tiny tube: a circle to the floats, reported as such
+        assert lab.surfaces.torus(r=1e-300).curvature(0.0, 0.0).degenerate

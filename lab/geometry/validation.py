@@ -177,6 +177,10 @@ def _in_interval(arr, interval, name, atol):
     return np.clip(arr, lo, hi) if (low < lo or high > hi) else arr
 
 
+#: The smallest positive normal float: below it (subnormal numbers) 1/x overflows and products lose digits.
+TINY = float(np.finfo(float).tiny)
+
+
 def as_number(value, name, *, positive=False, minimum=None, maximum=None):
     """Return ``value`` as a finite float, checked once for every public number parameter.
 
@@ -187,7 +191,7 @@ def as_number(value, name, *, positive=False, minimum=None, maximum=None):
     Parameters
     ----------
     positive : bool
-        Require ``value > 0``.
+        Require ``value > 0`` and a normal float (at least :data:`TINY`, 2.2e-308).
     minimum, maximum : float, optional
         Require ``minimum <= value <= maximum``.
     """
@@ -210,6 +214,9 @@ def as_number(value, name, *, positive=False, minimum=None, maximum=None):
     if not np.isfinite(x) or (positive and not x > 0) or (minimum is not None and x < minimum) or (
             maximum is not None and x > maximum):
         raise ValueError(f"{name} must be {wanted}; got {value!r}")
+    if positive and x < TINY:  # a subnormal float: its reciprocal overflows, its products lose their digits
+        raise ValueError(f"{name} must be a positive number of at least {TINY:.3g} (the smallest normal float); got "
+                         f"{value!r}, a subnormal number whose reciprocal is infinite")
     return x
 
 

@@ -513,5 +513,5 @@ def deviation_legend(tolerance, color_map="graded", vmax=None, *, unscanned=Fals
 
 def simulated_note(legend, deficiency):
     """``legend`` with a note that the picture is simulated for ``deficiency`` (:func:`lab.vision.simulate`)."""
-    said = _("seen with {deficiency} (simulated)").format(deficiency=_(vision.NAMES[deficiency]))
+    said = _("seen with {deficiency} (simulated)").format(deficiency=vision.name(deficiency))
     return dataclasses.replace(legend, note=f"{legend.note}\n{said}" if legend.note else said)

@@ -45,11 +45,15 @@ def _as_loop(loop, name, domain, tol):
         if isinstance(loop, (str, bytes)):
             raise TypeError(f"{expected}; got {type(loop).__name__}")
         try:
-            P = np.array(loop, dtype=float)
+            P = np.asarray(loop)  # the shape first: a broadcast view of a huge shape is refused before it is copied
         except (TypeError, ValueError, OverflowError):
             raise TypeError(f"{expected}; got {type(loop).__name__}") from None
         if P.ndim != 2 or P.shape[1] != 2:
             raise ValueError(f"{expected}; got shape {P.shape}")
+        try:
+            P = np.array(P, dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            raise TypeError(f"{expected}; got {type(loop).__name__} of {P.dtype}") from None
     if not np.all(np.isfinite(P)):
         raise ValueError(f"{name} must contain only finite values; got NaN or inf")
     scale = _domain_scale(domain)
