@@ -118,3 +118,21 @@ def test_one_number_gives_what_an_array_of_it_gives():
             cm.h(bad)
         with pytest.raises(ValueError, match="NaN|finite"):
             cm.f2(bad, 0.0, 1.0)
+
+
+def test_signed_log_at_extreme_scales_stays_finite_and_exact():
+    """A scale far above every value gives the linear map it tends to (log1p(M/s) would underflow to 0 and divide by
+    it); a scale far below gives log(a) - log(s) where a/s overflows; no warning either way (the fuzzer found both)."""
+    import warnings
+
+    x = np.array([-1.0, 0.0, 2.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        np.testing.assert_allclose(cm.signed_log(x, scale=1e308), 0.5 + 0.5 * x / 2.0, rtol=0, atol=1e-15)
+        huge = cm.signed_log(np.array([-1.7e308, 0.0, 1.7e308, 1e-300]), scale=1e-300)
+    assert np.all(np.isfinite(huge)) and list(huge[:3]) == [0.0, 0.5, 1.0]
+    # 1e-300 against M = 1.7e308 at s = 1e-300: log(2) / (log(1.7e308) - log(1e-300)) by the closed form
+    expected = 0.5 + 0.5 * np.log1p(1.0) / (np.log(1.7e308) - np.log(1e-300))
+    assert huge[3] == pytest.approx(expected, rel=1e-12)
+    np.testing.assert_allclose(cm.signed_log(x, scale=0.5), 0.5 + 0.5 * np.sign(x) * np.log1p(np.abs(x) / 0.5)
+                               / np.log1p(2.0 / 0.5), rtol=1e-15)

@@ -527,3 +527,14 @@ def test_a_face_without_third_derivatives_is_measured_up_to_g2(model_reports, mo
     rep = lab.continuity(model)
     assert not rep.measured_g3 and all(np.isnan(e.g3) for e in rep.edges)
     assert rep.counts()["G2"] == 10 and "G3" not in rep.counts() and "G3 jump" not in rep.table()
+
+
+def test_samples_at_a_pole_are_flagged_degenerate():
+    """The sphere's meridian knot lines run into its poles, where neither side has a normal: those samples (the two
+    ends of each) are flagged in ``edge.degenerate`` and count for the gap only; the equator has none."""
+    rep = lab.continuity(lab.surfaces.sphere(), samples=5)
+    flagged = {(e.direction, e.value): np.flatnonzero(e.degenerate).tolist() for e in rep.edges}
+    ends = [0, len(rep.edges[0].degenerate) - 1]
+    assert flagged == {("u", 0.25): ends, ("u", 0.5): ends, ("u", 0.75): ends, ("u", 1.0): ends, ("v", 0.5): []}
+    assert all(np.isnan(e.angle[e.degenerate]).all() and np.isfinite(e.angle[~e.degenerate]).all() for e in rep.edges)
+    assert rep.achieved == "G3"  # a sphere is smooth: the poles are no break

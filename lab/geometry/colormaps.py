@@ -263,11 +263,15 @@ def signed_log(x, scale=None, vmax=None):
     s = 2 * float(np.median(a / 2)) if scale is None else as_number(scale, "scale", minimum=0)  # halves: no overflow
     if s <= 0:
         s = M * 1e-3
-    # log1p(a / s) = log(s + a) - log(s) without the overflow of a / s (a near the float limit, s tiny)
-    log_ratio = np.logaddexp(np.log(s), np.log(np.maximum(a, np.finfo(float).tiny))) - np.log(s)
-    log_ratio = np.where(a > 0, log_ratio, 0.0)
-    top = np.logaddexp(np.log(s), np.log(M)) - np.log(s)
-    return np.clip(0.5 + 0.5 * np.sign(x) * log_ratio / top, 0.0, 1.0)
+    if M < 1e-8 * s:  # the scale far above every value: the map is linear to 1e-8 (and log1p(M/s) may underflow)
+        return np.clip(0.5 + 0.5 * x / M, 0.0, 1.0)
+
+    def log1p_ratio(v):  # log(1 + v/s), also where v/s overflows (v near the float limit, s tiny): log v - log s
+        with np.errstate(over="ignore", divide="ignore"):
+            r = v / s
+            return np.where(np.isfinite(r), np.log1p(r), np.log(np.maximum(v, np.finfo(float).tiny)) - np.log(s))
+
+    return np.clip(0.5 + 0.5 * np.sign(x) * log1p_ratio(a) / log1p_ratio(M), 0.0, 1.0)
 
 
 def dill(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):

@@ -94,6 +94,8 @@ class Edge:
     g3 : float
         Largest jump of the cross-boundary derivative of κn (1/length²), ``jump3`` (k,) at the samples; NaN where
         not measured (a face without third derivatives: at most G2).
+    degenerate : (k,) bool ndarray
+        The samples where a side has no normal (a pole, a collapsed side): they count for the gap only.
     """
 
     kind: str
@@ -113,6 +115,7 @@ class Edge:
     g0_tol: object = field(default=None, repr=False)
     g3: float = float("nan")
     jump3: object = field(default=None, repr=False)
+    degenerate: object = field(default=None, repr=False)
 
     def __repr__(self):
         where = f"{self.direction} = {self.value:g}" if self.value is not None else f"faces {self.faces}"
@@ -151,17 +154,13 @@ class Continuity:
         return {level: sum(e.achieved == level for e in self.edges) for level in levels}
 
     def summary(self):
-        """One line: the number of edges, how many achieve each level, and the level of the whole (current
-        language)."""
+        """One line: the number of edges, how many achieve each level, the level of the whole (current language)."""
         counts = ", ".join(f"{level_name(k)}: {n}" for k, n in self.counts().items())
         return _("{n} edges ({counts}); overall {level}").format(n=len(self.edges), counts=counts,
                                                                  level=level_name(self.achieved))
 
     def table(self, max_rows=20):
-        """A plain-text table: one row per edge (the ``max_rows`` worst when there are more), the tolerances.
-
-        In the current language (German with decimal commas); edge kinds and levels as in :attr:`edges`.
-        """
+        """A plain-text table in the current language: one row per edge (the ``max_rows`` worst), the tolerances."""
         tol = self.tolerances
         rows = sorted(self.edges, key=lambda e: (LEVELS.index(e.achieved), -_deciding(e, tol, self.size)))
         edge, g0, g1, g2, achieved = (_("edge"), _("G0 gap"), _("G1 angle [deg]"), _("G2 jump [1/length]"),
@@ -357,7 +356,7 @@ def _edges(meta, dA, dB, tA, tB, tol, size, signs=None, g0_tol=None, third=None)
     own = [None] * len(meta) if g0_tol is None else [float(x) if x > tol["g0"] * size else None for x in g0_tol]
     return [Edge(*meta[i], float(g0[i]), float(g1[i]), float(g2[i]), levels[i], points[i, worst[i]].copy(),
                  points[i], gap[i], angle[i], jump[i], own[i], float("nan") if g3 is None else float(g3[i]),
-                 None if jump3 is None else jump3[i]) for i in range(len(meta))]
+                 None if jump3 is None else jump3[i], ~ok[i]) for i in range(len(meta))]
 
 
 def _tolerances(tol_g0, tol_g1, tol_g2, tol_g3=None):
