@@ -158,7 +158,7 @@ def _is_lab_warning(w):
     return getattr(w.category, "__module__", "").partition(".")[0] == "lab"
 
 
-_MASKS = ("degenerate", "umbilic", "finite", "flagged", "singular")
+_MASKS = ("degenerate", "umbilic", "finite", "flagged", "singular", "flat")  # flat: an infinite radius, flagged
 
 
 def nonfinite(value, depth=0, seen=None):

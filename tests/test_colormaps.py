@@ -136,3 +136,9 @@ def test_signed_log_at_extreme_scales_stays_finite_and_exact():
     assert huge[3] == pytest.approx(expected, rel=1e-12)
     np.testing.assert_allclose(cm.signed_log(x, scale=0.5), 0.5 + 0.5 * np.sign(x) * np.log1p(np.abs(x) / 0.5)
                                / np.log1p(2.0 / 0.5), rtol=1e-15)
+
+
+def test_an_integer_beyond_the_float_range_is_named():
+    """f2's scalar shortcut handed 10**400 on to the array path's message instead of an OverflowError (fuzzer)."""
+    with pytest.raises(ValueError, match=r"vmax must be a finite number; got an integer of about"):
+        cm.f2(np.array([-1.0, 0.0, 2.0]), 0.0, 10**400)

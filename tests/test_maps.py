@@ -55,6 +55,9 @@ def test_min_radius_on_a_cylinder(R):
 
 def test_min_radius_flat_point_and_errors():
     assert maps.min_radius(0.0, 0.0) == np.inf
+    mesh = maps.radius_map(surfaces.plane(), 0.5, resolution=8)  # a plane: every radius infinite, flagged flat
+    assert np.all(np.isinf(mesh.point_data["min_radius"])) and np.all(mesh.point_data["flat"])
+    assert not np.any(maps.radius_map(surfaces.cylinder(1.0, 1.0), 0.5, resolution=8).point_data["flat"])
     assert not maps.below_radius(0.0, 0.0, 1.0)
     with pytest.raises(ValueError, match="r"):
         maps.below_radius(1.0, 1.0, 0.0)

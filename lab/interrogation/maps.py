@@ -123,11 +123,13 @@ def parting_line(surface, pull=(0.0, 0.0, 1.0), *, resolution=None):
 
 
 def radius_map(surface, r, *, resolution=None):
-    """A mesh of ``surface`` with point data ``min_radius``, ``below`` (min radius < ``r``) and ``RGB`` (red where below)."""
+    """A mesh of ``surface`` with point data ``min_radius`` (``inf`` where ``flat``, a mask), ``below`` (min radius <
+    ``r``) and ``RGB`` (red where below)."""
     r = _v.as_number(r, "r", positive=True)
     mesh = _mesh(surface, resolution)
     k1, k2 = np.asarray(mesh.point_data["k1"]), np.asarray(mesh.point_data["k2"])
     mesh.point_data["min_radius"] = min_radius(k1, k2)
+    mesh.point_data["flat"] = np.isinf(mesh.point_data["min_radius"])
     below = below_radius(k1, k2, r)
     mesh.point_data["below"] = below
     mesh.point_data["RGB"] = radius_colors(below)

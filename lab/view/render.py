@@ -590,5 +590,9 @@ def export_html(mesh, path, *, show_edges=False, camera=None):
     style.apply_lights(plotter)
     azimuth, elevation = camera if camera is not None else (None, None)
     style.fit_camera(plotter, mesh, azimuth=azimuth, elevation=elevation)
-    plotter.export_html(str(path))
+    try:  # PyVista 0.49+: trame-pyvista's exporter (pyvista[jupyter] brings it); Plotter.export_html is deprecated
+        exporter = plotter.trame.export_html
+    except (AttributeError, ImportError):  # an older PyVista
+        exporter = plotter.export_html
+    exporter(str(path))
     plotter.close()
