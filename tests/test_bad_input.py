@@ -418,3 +418,13 @@ def test_a_subnormal_size_is_refused_with_the_smallest_normal_float():
             make()
     with pytest.warns(DegeneratePointWarning):  # a normal but tiny tube: a circle to the floats, reported as such
         assert lab.surfaces.torus(r=1e-300).curvature(0.0, 0.0).degenerate
+
+
+def test_found_at_seed_14_text_as_an_angle_and_a_subnormal_vmax():
+    with pytest.raises(TypeError, match="angle must be an array of numbers; got str '1.5'"):
+        lab.normal_section(surfaces.torus(), (0.1, 0.1), "1.5", 1.0)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow warning: beyond a subnormal vmax the colour saturates
+        np.testing.assert_array_equal(C.signed_log(np.array([-1.0, 0.0, 2.0]), vmax=5e-324), [0.0, 0.5, 1.0])

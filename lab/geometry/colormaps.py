@@ -267,7 +267,8 @@ def signed_log(x, scale=None, vmax=None):
     if s <= 0:
         s = M * 1e-3
     if M < 1e-8 * s:  # the scale far above every value: the map is linear to 1e-8 (and log1p(M/s) may underflow)
-        return np.clip(0.5 + 0.5 * x / M, 0.0, 1.0)
+        with np.errstate(over="ignore"):  # a subnormal vmax: beyond it the colour saturates, as it should
+            return np.clip(0.5 + 0.5 * x / M, 0.0, 1.0)
 
     def log1p_ratio(v):  # log(1 + v/s), also where v/s overflows (v near the float limit, s tiny): log v - log s
         with np.errstate(over="ignore", divide="ignore"):

@@ -510,12 +510,7 @@ def _regular_derivatives(surface, u, v, name):
 
 
 def _as_angles(angle):
-    try:
-        alpha = np.asarray(angle, dtype=float)
-    except (TypeError, ValueError):
-        raise TypeError(f"angle must be a number (radians); got {type(angle).__name__}") from None
-    except OverflowError:  # an int beyond the float range (10**400)
-        raise ValueError(f"angle must be finite (radians); got {_v._short(angle, 40)}, beyond the float range") from None
+    alpha = _v.as_array(angle, "angle", finite=False)  # radians; text ('1.5'), None, complex: TypeError
     if not np.all(np.isfinite(alpha)):
         raise ValueError(f"angle must be finite; got {angle}")
     return alpha
