@@ -134,3 +134,17 @@ def test_render_draft_min_radius_and_combs(tmp_path, capsys):
         with pytest.raises(SystemExit):
             cli.main(["render", "--surface", "sphere", "--quiet", *bad, "-o", str(tmp_path / "x.vtp")])
         assert message in capsys.readouterr().err
+
+
+def test_a_pull_direction_of_any_length_is_its_direction():
+    """(1e308, 1e308, 0) overflowed in its length and (1e-320, 0, 0) underflowed (the fuzzer): each is a direction."""
+    import warnings
+
+    normals = np.array([[1.0, 1.0, 0.0], [1.0, 0.0, 0.0]]) / np.array([[np.sqrt(2)], [1.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        big = maps.draft_angle(normals, (1e308, 1e308, 0))
+        tiny = maps.draft_angle(normals, (1e-320, 0, 0))
+    np.testing.assert_allclose(big, maps.draft_angle(normals, (1.0, 1.0, 0.0)), atol=1e-12)
+    np.testing.assert_allclose(tiny, maps.draft_angle(normals, (1.0, 0.0, 0.0)), atol=1e-12)
+    np.testing.assert_allclose(big, [90.0, 45.0], atol=1e-12)

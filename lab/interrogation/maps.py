@@ -39,10 +39,11 @@ def _as_pull(pull):
         p = None
     if p is None or p.shape != (3,) or not np.all(np.isfinite(p)):
         raise ValueError(f"pull must be a direction (x, y, z) of three finite numbers; got {pull!r}")
-    n = float(np.linalg.norm(p))
-    if not n > 0:
+    big = float(np.max(np.abs(p)))
+    if not big > 0:
         raise ValueError(f"pull must not be the zero vector; got {pull!r}")
-    return p / n
+    p = p / big  # first scaled to 1: the length of (1e308, 1e308, 0) overflows, of (1e-320, 0, 0) underflows
+    return p / np.linalg.norm(p)
 
 
 def draft_angle(normals, pull):
