@@ -428,3 +428,33 @@ def test_found_at_seed_14_text_as_an_angle_and_a_subnormal_vmax():
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no overflow warning: beyond a subnormal vmax the colour saturates
         np.testing.assert_array_equal(C.signed_log(np.array([-1.0, 0.0, 2.0]), vmax=5e-324), [0.0, 0.5, 1.0])
+
+
+def test_found_at_seeds_16_to_19():
+    """What the fuzzer found at seeds 16–19 (the suite runs one seed), each now named or drawn right."""
+    import warnings
+
+    plane = surfaces.plane()
+    with pytest.raises(TypeError, match=r"holes must be a list of loops .*; got 1.0"):
+        lab.trimmed(plane, None, 1.0)  # was Python's "'float' object is not iterable"
+    with pytest.raises(ValueError, match="knot vector in u must be finite numbers; got an integer beyond the float range"):
+        lab.BSplineSurface(np.zeros((4, 4, 3)), [10**400] * 8, [0, 0, 0, 0, 1, 1, 1, 1], 3, 3)
+    patch = surfaces.practical().to_bezier_patches()[0]
+    with pytest.raises(ValueError, match=r"set_colors: c11 components must lie in \[0, 1\]"):
+        patch.set_colors((0.1, 0.2, 0.3), (0.1, 0.2, 0.3), (0.1, 0.2, 0.3), [10**400, 0, 0])
+    with pytest.raises(TypeError, match=r"levels must be a sequence of numbers \(the band borders\)"):
+        lab.band_lines(surfaces.torus(), "gaussian", [[1.0, 2.0], [3.0]], resolution=8)
+    with pytest.raises(ValueError, match="direction must be finite numbers; got an integer beyond the float range"):
+        lab.reflection_lines(surfaces.torus(), resolution=8, count=3, direction=(0, 0, 10**400))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # its length overflowed before: scaled first, (1e308, 1e308, 0) is a direction
+        big = lab.reflection_lines(surfaces.torus(), resolution=8, count=3, direction=(1e308, 1e308, 0))
+        assert big.n_points == lab.reflection_lines(surfaces.torus(), resolution=8, count=3, direction=(1, 1, 0)).n_points
+        np.testing.assert_array_equal(C.signed_log(np.array([5e-324, -5e-324, 0.0])), [1.0, 0.0, 0.5])  # 0.5 * x underflowed
+    with pytest.raises(ValueError, match=r"size must be <= 1e\+60"):
+        lab.probe(surfaces.torus(), 0.3, 0.4, size=1.7976931348623157e308)
+    zero = lab.BezierSurface(np.zeros((4, 4, 3)))  # a picture of nothing, and PyVista's TypeError in the explorer
+    for draw in (lambda: lab.render.picture(zero, "gaussian", "linear", window_size=(64, 48), resolution=1),
+                 lambda: lab.CurvatureExplorer(zero, depth=0, max_depth=2, live=False)):
+        with pytest.raises(ValueError, match=r"nothing to draw: all points of the surface coincide at \(0, 0, 0\)"):
+            draw()

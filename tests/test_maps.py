@@ -35,10 +35,12 @@ def test_parting_line_of_the_sphere_is_the_equator():
 
 
 def test_draft_errors_name_the_parameter():
-    with pytest.raises(ValueError, match="pull must not be the zero vector"):
+    with pytest.raises(ValueError, match="pull must be a non-zero vector"):
         maps.draft_angle(np.array([[0, 0, 1.0]]), (0, 0, 0))
-    with pytest.raises(ValueError, match=r"pull must be a direction \(x, y, z\)"):
+    with pytest.raises(TypeError, match=r"pull must be an array of numbers; got str 'up'"):
         maps.draft_angle(np.array([[0, 0, 1.0]]), "up")
+    with pytest.raises(ValueError, match=r"pull must be a direction \(x, y, z\) of three finite numbers"):
+        maps.draft_angle(np.array([[0, 0, 1.0]]), (0, 1))
     with pytest.raises(ValueError, match=r"normals must have shape \(\.\.\., 3\)"):
         maps.draft_angle(np.ones((4, 2)), (0, 0, 1))
 

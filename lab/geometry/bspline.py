@@ -47,9 +47,9 @@ def validate_knots(knots, degree, n_points, name="knot vector"):
     if degree >= n_points:
         raise ValueError(f"degree of the {name} must be below the number of control points in that direction "
                          f"({n_points}, so at most {n_points - 1}); got {degree}")
-    t = np.asarray(knots, dtype=float) if not isinstance(knots, (str, bytes)) else None
-    if t is None or t.ndim != 1:
-        raise ValueError(f"{name} must be a 1-D sequence of numbers; got {knots!r}")
+    t = _v.as_array(knots, name, finite=False)  # text, None, an int beyond the float range: named
+    if t.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D sequence of numbers; got {_v._short(knots)}")
     if not np.all(np.isfinite(t)):
         raise ValueError(f"{name} must contain only finite values; got {t.tolist()}")
     expected = n_points + degree + 1

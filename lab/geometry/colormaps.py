@@ -264,18 +264,18 @@ def signed_log(x, scale=None, vmax=None):
     if M <= 0:
         return np.full(x.shape, 0.5)
     s = 2 * float(np.median(a / 2)) if scale is None else as_number(scale, "scale", minimum=0)  # halves: no overflow
-    if s <= 0:
-        s = M * 1e-3
+    if s <= 0:  # (at least the smallest normal float: M * 1e-3 underflows for a subnormal M)
+        s = max(M * 1e-3, np.finfo(float).tiny)
     if M < 1e-8 * s:  # the scale far above every value: the map is linear to 1e-8 (and log1p(M/s) may underflow)
         with np.errstate(over="ignore"):  # a subnormal vmax: beyond it the colour saturates, as it should
-            return np.clip(0.5 + 0.5 * x / M, 0.0, 1.0)
+            return np.clip(0.5 + 0.5 * (x / M), 0.0, 1.0)  # x / M first: 0.5 * x underflows for a subnormal x
 
     def log1p_ratio(v):  # log(1 + v/s), also where v/s overflows (v near the float limit, s tiny): log v - log s
         with np.errstate(over="ignore", divide="ignore"):
             r = v / s
             return np.where(np.isfinite(r), np.log1p(r), np.log(np.maximum(v, np.finfo(float).tiny)) - np.log(s))
 
-    return np.clip(0.5 + 0.5 * np.sign(x) * log1p_ratio(a) / log1p_ratio(M), 0.0, 1.0)
+    return np.clip(0.5 + 0.5 * np.sign(x) * (log1p_ratio(a) / log1p_ratio(M)), 0.0, 1.0)
 
 
 def dill(x, vmin=DILL_RANGE[0], vmax=DILL_RANGE[1]):

@@ -73,6 +73,20 @@ def as_array(value, name, *, finite=True):
     return arr
 
 
+def as_direction(value, name):
+    """``value`` as a unit 3-vector: a ``TypeError`` for text or None, a ``ValueError`` naming ``name`` for another
+    shape, NaN, inf or the zero vector.  Scaled to 1 before it is normalised, so that the length of (1e308, 1e308, 0)
+    does not overflow and that of (1e-320, 0, 0) does not underflow to "zero"."""
+    d = as_array(value, name, finite=False)
+    if d.shape != (3,) or not np.all(np.isfinite(d)):
+        raise ValueError(f"{name} must be a direction (x, y, z) of three finite numbers; got {_short(value)}")
+    big = float(np.max(np.abs(d)))
+    if not big > 0:
+        raise ValueError(f"{name} must be a non-zero vector; got {tuple(float(x) for x in d)}")
+    d = d / big
+    return d / np.linalg.norm(d)
+
+
 def as_broadcast_arrays(**arrays):
     """The keyword arrays as float arrays broadcast against each other (views), each checked as :func:`as_array`
     without the finiteness check; a ``ValueError`` names them and their shapes if they do not broadcast."""

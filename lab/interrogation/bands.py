@@ -55,8 +55,8 @@ def band_lines(surface, values, levels, *, tol=0.0, resolution=None):
         f = _v.as_array(values, "values", finite=False)
         if f.shape != (mesh.n_points,):
             raise ValueError(f"values must give one number per point of the mesh ({mesh.n_points}); got shape {f.shape}")
-    if isinstance(levels, (str, bytes)) or np.ndim(levels) != 1:
-        raise TypeError(f"levels must be a sequence of numbers (the band borders); got {levels!r}")
+    if isinstance(levels, (str, bytes)) or not hasattr(levels, "__len__") or any(np.ndim(x) for x in levels):
+        raise TypeError(f"levels must be a sequence of numbers (the band borders); got {_v._short(levels)}")
     levels = [_v.as_number(x, "level") for x in levels]
     tol = _v.as_number(tol, "tol", minimum=0)
     X = np.asarray(mesh.points, dtype=float)

@@ -32,20 +32,6 @@ NEGATIVE, POSITIVE, ZERO = (0.15, 0.3, 0.9), (0.9, 0.2, 0.15), (0.93, 0.93, 0.93
 FLAGGED, CLEAR = (0.9, 0.15, 0.1), (0.8, 0.8, 0.8)
 
 
-def _as_pull(pull):
-    try:
-        p = None if isinstance(pull, (str, bytes)) else np.asarray(pull, dtype=float)
-    except (TypeError, ValueError, OverflowError):
-        p = None
-    if p is None or p.shape != (3,) or not np.all(np.isfinite(p)):
-        raise ValueError(f"pull must be a direction (x, y, z) of three finite numbers; got {pull!r}")
-    big = float(np.max(np.abs(p)))
-    if not big > 0:
-        raise ValueError(f"pull must not be the zero vector; got {pull!r}")
-    p = p / big  # first scaled to 1: the length of (1e308, 1e308, 0) overflows, of (1e-320, 0, 0) underflows
-    return p / np.linalg.norm(p)
-
-
 def draft_angle(normals, pull):
     r"""Draft angle in degrees, :math:`\arcsin(\mathbf N\cdot\hat{\mathbf p})`, of unit ``normals`` (..., 3).
 
@@ -54,7 +40,7 @@ def draft_angle(normals, pull):
     N = _v.as_array(normals, "normals", finite=False)
     if N.ndim < 1 or N.shape[-1] != 3:
         raise ValueError(f"normals must have shape (..., 3); got {N.shape}")
-    p = _as_pull(pull)
+    p = _v.as_direction(pull, "pull")
     return np.degrees(np.arcsin(np.clip(N @ p, -1.0, 1.0)))
 
 

@@ -155,16 +155,6 @@ def _diagonal(points):
     return float(np.linalg.norm(np.ptp(points, axis=0)))
 
 
-def _as_direction(value, name):
-    d = np.asarray(value, dtype=float) if not isinstance(value, (str, bytes)) else None
-    if d is None or d.shape != (3,) or not np.all(np.isfinite(d)):
-        raise ValueError(f"{name} must be a finite 3-vector; got {value!r}")
-    norm = np.linalg.norm(d)
-    if norm == 0:
-        raise ValueError(f"{name} must be a non-zero vector; got {tuple(float(x) for x in d)}")
-    return d / norm
-
-
 def _eye_or_view(eye, view):
     """Exactly one of eye (point) and view (direction); default: an eye at infinity in VIEW_DIRECTION."""
     if eye is not None and view is not None:
@@ -174,7 +164,7 @@ def _eye_or_view(eye, view):
         if e.shape != (3,) or not np.all(np.isfinite(e)):
             raise ValueError(f"eye must be a finite 3-vector (a point); got {eye!r}")
         return e, None
-    return None, _as_direction(_refl.VIEW_DIRECTION if view is None else view, "view")
+    return None, _v.as_direction(_refl.VIEW_DIRECTION if view is None else view, "view")
 
 
 def _lines_mesh(lines_per_value, value_names):
@@ -530,8 +520,8 @@ def reflection_lines(surface, direction=(1.0, 0.0, 0.0), count=9, *, spacing=Non
     """
     mesh = as_curvature_mesh(surface, resolution)
     count = _check_levels(count, mesh, "count", "reflection_lines")
-    n = _as_direction(plane_normal, "plane_normal")
-    d = _as_direction(direction, "direction")
+    n = _v.as_direction(plane_normal, "plane_normal")
+    d = _v.as_direction(direction, "direction")
     d = d - (d @ n) * n
     if np.linalg.norm(d) < 1e-9:
         raise ValueError("direction must not be parallel to plane_normal (the light lines lie in the light plane)")
@@ -587,7 +577,7 @@ def isophotes(surface, light=(0.0, 0.0, 1.0), count=9, *, resolution=None):
         Polylines with cell data ``level`` (j - 1), ``angle`` (α_j in degrees) and ``value`` (cos α_j).
     """
     mesh = as_curvature_mesh(surface, resolution)
-    L = _as_direction(light, "light")
+    L = _v.as_direction(light, "light")
     count = _check_levels(count, mesh, "count", "isophotes")
     X = np.asarray(mesh.points, dtype=float)
     T = _triangles(mesh)

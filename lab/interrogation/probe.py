@@ -114,7 +114,7 @@ def probe(surface, u, v, *, size=None):
     if size is None:
         g = np.asarray(surface.evaluate(*np.meshgrid(np.linspace(u0, u1, 9), np.linspace(v0, v1, 9))))
         size = 0.05 * float(np.linalg.norm(np.ptp(g.reshape(-1, 3), axis=0)))
-    size = _v.as_number(size, "size", positive=True)
+    size = _v.as_number(size, "size", positive=True, maximum=_v.COORDINATE_MAX)  # drawn as coordinates: bounded as they are
     c = surface.curvature(np.array([u]), np.array([v]), directions=True)
     point = np.asarray(surface.evaluate(np.array([u]), np.array([v])), dtype=float).reshape(3)
     d = surface.derivatives(np.array([u]), np.array([v]))

@@ -154,7 +154,7 @@ class BezierPatch:
         """
         try:  # the usual case in one array (a student's loop calls this for every patch)
             rgb = np.array((c00, c01, c10, c11), dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             rgb = None
         if (rgb is not None and rgb.shape == (4, 3) and np.isfinite(rgb).all() and rgb.min() >= -COLOR_ROUNDING
                 and rgb.max() <= 1 + COLOR_ROUNDING):
@@ -165,7 +165,9 @@ class BezierPatch:
             try:
                 arr = np.asarray(c, dtype=float)
             except (TypeError, ValueError):
-                raise TypeError(f"set_colors: {name} must be an (r, g, b) tuple; got {c!r}") from None
+                raise TypeError(f"set_colors: {name} must be an (r, g, b) tuple; got {_v._short(c)}") from None
+            except OverflowError:  # an int beyond the float range
+                raise ValueError(f"set_colors: {name} components must lie in [0, 1]; got {_v._short(c)}") from None
             if arr.shape != (3,):
                 raise ValueError(f"set_colors: {name} must be an (r, g, b) tuple of 3 numbers; got shape {arr.shape}")
             if not np.all(np.isfinite(arr)) or arr.min() < -COLOR_ROUNDING or arr.max() > 1 + COLOR_ROUNDING:

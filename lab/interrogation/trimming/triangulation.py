@@ -120,8 +120,10 @@ def validate_loops(outer, holes, domain, tol=None):
     tol = 1e-4 * scale if tol is None else _v.as_number(tol, "tol", positive=True)
     if outer is None:
         outer = rectangle((u0, v0), (u1, v1))
-    if holes is None or isinstance(holes, BSplineLoop) or (isinstance(holes, np.ndarray) and holes.ndim != 3):
-        raise TypeError("holes must be a list of loops (each a (k, 2) array or a BSplineLoop)")
+    if (holes is None or isinstance(holes, (BSplineLoop, str, bytes)) or not hasattr(holes, "__iter__")
+            or (isinstance(holes, np.ndarray) and holes.ndim != 3)):
+        raise TypeError(f"holes must be a list of loops (each a (k, 2) array or a BSplineLoop); got "
+                        f"{_v._short(holes)}")
     holes = list(holes)
     O = _as_loop(outer, "outer loop", domain, tol)
     H = [_as_loop(h, f"hole {n}", domain, tol) for n, h in enumerate(holes)]
