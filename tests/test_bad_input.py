@@ -458,3 +458,16 @@ def test_found_at_seeds_16_to_19():
                  lambda: lab.CurvatureExplorer(zero, depth=0, max_depth=2, live=False)):
         with pytest.raises(ValueError, match=r"nothing to draw: all points of the surface coincide at \(0, 0, 0\)"):
             draw()
+
+
+def test_found_at_seeds_20_to_23():
+    """A check's timeout, a domain and a colour map's scale given out of range, and a path shorter than rounding."""
+    with pytest.raises(ValueError, match=r"timeout must be a positive number of seconds, at most 86400; got 1000"):
+        lab.check.h(lambda t: t, seed=1, timeout=10**400)  # was OverflowError
+    with pytest.raises(ValueError, match=r"domain must be \(\(u_min, u_max\), \(v_min, v_max\)\) of finite numbers"):
+        lab.ParametricSurface(lambda u, v: None, ((0, 10**400), (0, 1)))
+    with pytest.raises(TypeError, match="scale must be a real number; got str '1e999'"):
+        C.signed_log(np.array([]), scale="1e999")  # no values: the scale was never looked at
+    with pytest.raises(ValueError, match=r"length must be at least 1e-12 times the surface's size \(8.72\)"):
+        lab.line_of_curvature(surfaces.torus(), (0.3, 0.4), "k1", 1e-300)  # was the solver's RuntimeError
+    assert lab.line_of_curvature(surfaces.torus(), (0.3, 0.4), "k1", 1e-10).length == pytest.approx(1e-10)

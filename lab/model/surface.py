@@ -554,8 +554,9 @@ def _check_domain(domain):
     try:
         (u0, u1), (v0, v1) = domain
         dom = ((float(u0), float(u1)), (float(v0), float(v1)))
-    except (TypeError, ValueError):
-        raise ValueError(f"domain must be ((u_min, u_max), (v_min, v_max)); got {domain!r}") from None
+    except (TypeError, ValueError, OverflowError):  # (an int beyond the float range)
+        raise ValueError(f"domain must be ((u_min, u_max), (v_min, v_max)) of finite numbers; got "
+                         f"{_v._short(domain)}") from None
     for name, (a, b) in zip("uv", dom):
         if not (np.isfinite(a) and np.isfinite(b) and a < b):
             raise ValueError(f"domain in {name} must be a finite interval with min < max; got ({a}, {b})")

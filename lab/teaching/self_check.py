@@ -9,13 +9,13 @@ answers outside (:mod:`lab.teaching.grader.notebook`).
 
 import contextlib
 import importlib
-import math
 import re
 import secrets
 import sys
 
 import numpy as np
 
+from ..geometry.validation import _short, as_number
 from .kernel.protocol import decode_args, encode_args, outcome, stub_source
 from .task import build_report, judge_outcome
 from .untrusted import defines, reported_outcome
@@ -107,15 +107,21 @@ def reported_as_written(task_name):
     return reported_outcome([str(x) for x in history[1:-1]] + [current[:found.start()]], found.group(1))
 
 
+#: The longest time limit a check accepts (seconds).
+MAX_TIMEOUT = 86400.0
+
+
 def _options(seed, timeout, graded):
     """The check's own options, validated (a bad option is the caller's mistake, not the student code's)."""
     if seed is None:
         seed = secrets.randbelow(2**32)  # recorded in the report: it reproduces the cases
     elif isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer; got {seed!r}")
-    if isinstance(timeout, bool) or not isinstance(timeout, (int, float, np.number)) or not math.isfinite(timeout) \
-            or timeout <= 0:
-        raise ValueError(f"timeout must be a positive number of seconds; got {timeout!r}")
+    try:  # (an int beyond the float range too; at most a day: the timer takes no more)
+        timeout = as_number(timeout, "timeout", positive=True, maximum=MAX_TIMEOUT)
+    except (TypeError, ValueError):
+        raise ValueError(f"timeout must be a positive number of seconds, at most {MAX_TIMEOUT:g}; got "
+                         f"{_short(timeout)}") from None
     if not isinstance(graded, bool):
         raise TypeError(f"graded must be True or False; got {graded!r}")
     return int(seed), float(timeout)

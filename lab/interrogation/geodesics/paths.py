@@ -256,6 +256,9 @@ class Fan:
 #: ends it, and the integrator's work grows with the length (a geodesic of length 1e7 on the torus never ended;
 #: 1000 took 44 s here, so 100 sizes, 870 on the default torus, stay within a minute).
 MAX_LENGTH_PER_SIZE = 100
+#: And at least this many: below it the arc length is rounding to the surface's coordinates (the line-of-curvature
+#: integrator failed on 1e-300 with "required step size is less than spacing between numbers").
+MIN_LENGTH_PER_SIZE = 1e-12
 
 
 def _pair(uv):
@@ -264,10 +267,15 @@ def _pair(uv):
 
 
 def _check_length_cap(surface, L, kind):
-    """Refuse a length beyond :data:`MAX_LENGTH_PER_SIZE` times the surface's size (its points' bounding box)."""
+    """Refuse a length beyond :data:`MAX_LENGTH_PER_SIZE` or below :data:`MIN_LENGTH_PER_SIZE` times the surface's
+    size (its points' bounding box)."""
     (u0, u1), (v0, v1) = surface.domain
     U, V = np.meshgrid(np.linspace(u0, u1, 9), np.linspace(v0, v1, 9), indexing="ij")
     size = float(np.linalg.norm(np.ptp(surface.evaluate(U, V).reshape(-1, 3), axis=0)))
+    if L < MIN_LENGTH_PER_SIZE * size:
+        raise ValueError(f"length must be at least {MIN_LENGTH_PER_SIZE:g} times the surface's size ({size:.3g}), i.e. "
+                         f">= {MIN_LENGTH_PER_SIZE * size:.3g}; got {L:g}: a shorter {kind} is below the rounding of its "
+                         "points")
     if L > MAX_LENGTH_PER_SIZE * size:
         raise ValueError(
             f"length must be at most {MAX_LENGTH_PER_SIZE} times the surface's size ({size:.3g}), i.e. "
