@@ -158,15 +158,20 @@ VERBS = {
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv and argv[0] in VERBS:
-        import importlib
+    try:
+        if argv and argv[0] in VERBS:
+            import importlib
 
-        return importlib.import_module(f"lab.teaching.course.{argv[0]}").main(argv[1:])
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.command == "render" and args.resolution < 1:
-        parser.error(f"--resolution must be at least 1; got {args.resolution}")
-    return args.func(args, parser)
+            return importlib.import_module(f"lab.teaching.course.{argv[0]}").main(argv[1:])
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        if args.command == "render" and args.resolution < 1:
+            parser.error(f"--resolution must be at least 1; got {args.resolution}")
+        return args.func(args, parser)
+    except OSError as exc:  # a file or folder the command cannot read or write (missing, a name too long, no right)
+        verb = argv[0] if argv and not argv[0].startswith("-") else ""
+        print(f"curvature-lab {verb}: error: {exc}".replace("  ", " "), file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -471,3 +471,23 @@ def test_found_at_seeds_20_to_23():
     with pytest.raises(ValueError, match=r"length must be at least 1e-12 times the surface's size \(8.72\)"):
         lab.line_of_curvature(surfaces.torus(), (0.3, 0.4), "k1", 1e-300)  # was the solver's RuntimeError
     assert lab.line_of_curvature(surfaces.torus(), (0.3, 0.4), "k1", 1e-10).length == pytest.approx(1e-10)
+
+
+def test_found_at_seeds_24_to_26(capsys):
+    """A stripe corner whose ray runs along a wall, no values with a vmax, a class where an object goes, and a file
+    name the system refuses: each a result or a message, not a warning or a traceback."""
+    import warnings
+
+    from lab import cli
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        stripes = I.stripe_mapping(surfaces.torus(), resolution=6, n_stripes=4)  # P0/P1 with P1 = 0 at a corner
+        assert stripes.n_cells > 1000 and np.isfinite(np.asarray(stripes.points)).all()
+        assert C.signed_log(np.zeros((3, 0)), vmax=1.7e308).shape == (3, 0)  # numpy's "mean of empty slice"
+    for call in (lambda: lab.render.picture(lab.BezierSurface, "gaussian", "linear", window_size=(64, 48)),
+                 lambda: lab.write(lab.BezierSurface, "x.step")):
+        with pytest.raises(TypeError, match="got the class BezierSurface itself"):
+            call()
+    assert cli.main(["exercises", "--solutions", "x" * 300]) == 1
+    assert "curvature-lab exercises: error: [Errno 36] File name too long" in capsys.readouterr().err

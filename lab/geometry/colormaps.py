@@ -262,7 +262,7 @@ def signed_log(x, scale=None, vmax=None):
     a = np.abs(x)
     scale = None if scale is None else as_number(scale, "scale", minimum=0)  # checked even for no values
     M = (np.max(a) if a.size else 0.0) if vmax is None else as_number(vmax, "vmax", minimum=0)
-    if M <= 0:
+    if M <= 0 or not a.size:
         return np.full(x.shape, 0.5)
     s = 2 * float(np.median(a / 2)) if scale is None else scale  # halves: no overflow
     if s <= 0:  # (at least the smallest normal float: M * 1e-3 underflows for a subnormal M)

@@ -73,6 +73,14 @@ def as_array(value, name, *, finite=True):
     return arr
 
 
+def refuse_class(obj, expected):
+    """A ``TypeError`` when ``obj`` is a class rather than one of its objects (``lab.BezierSurface`` given where
+    ``lab.surfaces.torus()`` was meant), naming ``expected``."""
+    if isinstance(obj, type):
+        raise TypeError(f"expected {expected}; got the class {obj.__name__} itself (make one first, e.g. "
+                        "lab.surfaces.torus())")
+
+
 def as_direction(value, name):
     """``value`` as a unit 3-vector: a ``TypeError`` for text or None, a ``ValueError`` naming ``name`` for another
     shape, NaN, inf or the zero vector.  Scaled to 1 before it is normalised, so that the length of (1e308, 1e308, 0)

@@ -464,11 +464,15 @@ def stripe_map(points, triangles, normals, box, E):
     ti = np.arange(len(T))
     P0T = A[:, cols["P0"]][T][ti, :, face]  # (t, 3): numerator of the triangle's face at its corners
     P1T = A[:, cols["P1"]][T][ti, :, face]
-    phi = P0T.mean(axis=1) / P1T.mean(axis=1)  # at the centroid
-    stripe = np.clip(np.floor(phi), 0, 2 * box.n_stripes - 1).astype(int)
+    with np.errstate(divide="ignore", invalid="ignore"):  # a corner whose ray runs along the wall has P1 = 0
+        phi = P0T.mean(axis=1) / P1T.mean(axis=1)  # at the centroid
+        phase = P0T / P1T
+    stripe = np.clip(np.floor(np.nan_to_num(phi)), 0, 2 * box.n_stripes - 1).astype(int)
+    bad = ~np.isfinite(phase)  # such a corner: the bound of the triangle's stripe it tends to (phi where 0/0)
+    phase[bad] = np.clip(np.where(np.isnan(phase), phi[:, None], phase), stripe[:, None], stripe[:, None] + 1)[bad]
     Nn = A[:, cols["N"]]
     Nn = Nn / np.linalg.norm(Nn, axis=1, keepdims=True)
-    return StripeMesh(A[:, cols["X"]], Nn, T, face, stripe, parent, P0T / P1T, A[:, cols["w"]])
+    return StripeMesh(A[:, cols["X"]], Nn, T, face, stripe, parent, phase, A[:, cols["w"]])
 
 
 def _winning_face(g, w):

@@ -250,6 +250,7 @@ def _as_mesh(obj, curvature, color_map, resolution, n, map_options=None):
     """A curvature mesh for patches, a surface, a model or a mesh, and the legend its colours have (or None)."""
     from .. import mesh as _mesh
     from ..geometry.curvature import CurvatureMode, zero_tolerance
+    _v.refuse_class(obj, "BezierPatches, a lab surface, a lab.Model, a pyvista.PolyData or a geomview file")
     options = dict(map_options or {})
     coloured = curvature is not None and color_map is not None
     if isinstance(obj, (str, os.PathLike)):  # a file written for geomview, read back with its colours

@@ -16,6 +16,7 @@ import warnings
 
 import numpy as np
 
+from ...geometry import validation as _v
 from ...model.surface import BezierSurface
 from .model import Model
 from .occ import _cast, require_ocp
@@ -128,6 +129,7 @@ def _covering(surface, loops, rtol=1e-12):
 
 def _pieces(obj):
     """The faces to write, as :class:`_Piece`."""
+    _v.refuse_class(obj, "a lab.Model, a lab.TrimmedSurface, a lab.BezierSurface or a lab.BSplineSurface")
     if isinstance(obj, Model):
         out = []
         for f in obj.faces:

@@ -124,9 +124,7 @@ class CurvatureExplorer(Explorer):
 
     def __init__(self, surface, patches_class=None, *, depth=2, max_depth=6, lines=16, window_size=(800, 500),
                  live=None, backend=None, scan=None, tolerance=None):
-        if isinstance(surface, type):  # the class, not one of its surfaces (hasattr would find its methods)
-            raise TypeError(f"expected a lab surface or lab.BezierPatches; got the class {surface.__name__} itself "
-                            "(make one first, e.g. lab.surfaces.torus())")
+        _v.refuse_class(surface, "a lab surface or lab.BezierPatches")  # (hasattr would find a class's methods)
         self.model = surface if is_model(surface) else None
         if self.model is not None:
             if not self.model.faces:
