@@ -393,8 +393,8 @@ def test_stripe_mapping_of_derivatives_near_1e300_is_refused_as_degenerate():
     huge = lab.ParametricSurface(lambda u, v: lab.Derivatives(*(np.full(np.shape(u) + (3,), 1e300) for _ in range(6))),
                                  ((0, 1), (0, 1)))
     with pytest.warns(DegeneratePointWarning), pytest.raises(
-            ValueError, match="degenerate at 64 of its 64 mesh points .* not finite"):
-        lab.stripe_mapping(huge, resolution=8)
+            ValueError, match="nothing to draw: the surface is not finite at any of its 64 points"):
+        lab.stripe_mapping(huge, resolution=8)  # refused when its mesh is made (every mesh of it, every picture)
 
 
 @pytest.mark.parametrize("kw", [{"c": 5e-324}, {"c": 1e-300}, {"c": 1e300}, {"height": 1e6}])
@@ -491,3 +491,24 @@ def test_found_at_seeds_24_to_26(capsys):
             call()
     assert cli.main(["exercises", "--solutions", "x" * 300]) == 1
     assert "curvature-lab exercises: error: [Errno 36] File name too long" in capsys.readouterr().err
+
+
+def test_found_at_seeds_27_to_30():
+    """Huge broadcast views classified or clipped onto the domain are estimated before the copy; a surface not
+    finite anywhere is refused before a blank picture is drawn."""
+    from lab.geometry import curvature as Cv
+
+    with pytest.raises(ValueError, match="classifying 10000000000 points would need about 596 GiB"):
+        Cv.classify(np.broadcast_to(1.0, (10**6, 10**4)), np.array([-1e-100]))
+    patches = surfaces.practical().to_bezier_patches()
+    with pytest.raises(ValueError, match="clipping 10000000000 values of u onto the domain would need about 74.5 GiB"):
+        patches.evaluate(np.broadcast_to(-1e-20, (10**5, 10**5)), 0.5)
+    with pytest.raises(ValueError, match="curvature of 49 patches at 10000000000 points each would need"):
+        patches.curvature_at(np.array(-1.1e-308), np.broadcast_to(0.5, (10**5, 10**5)))  # the scalar clipped alone
+    np.testing.assert_array_equal(patches.evaluate(np.array([-1e-15, 1 + 1e-15]), 0.5),
+                                  patches.evaluate(np.array([0.0, 1.0]), 0.5))  # rounding outside is still clipped
+    huge = lab.ParametricSurface(lambda u, v: lab.Derivatives(*(np.full(np.shape(u) + (3,), 1e300) for _ in range(6))),
+                                 ((0, 1), (0, 1)), name="huge")
+    with pytest.warns(DegeneratePointWarning), pytest.raises(ValueError, match="nothing to draw: the surface is not "
+                                                                               "finite at any of its"):
+        lab.render.picture(huge, "gaussian", "linear", window_size=(64, 48))

@@ -311,6 +311,7 @@ def classify(k1, k2, tol=1e-8):
     """
     tol = _v.as_number(tol, "tol", minimum=0)
     k1, k2 = _v.as_broadcast_arrays(k1=k1, k2=k2)
+    _v.check_memory(64 * k1.size, f"classifying {_v.format_count(k1.size)} points", None)  # views until here
     z1 = np.abs(k1) <= tol
     z2 = np.abs(k2) <= tol
     same_sign = np.sign(k1) == np.sign(k2)

@@ -171,10 +171,11 @@ def as_parameters(u, v, domain, *, atol=1e-12):
     uu = _as_float_array(u, "u", copy=False)
     vv = _as_float_array(v, "v", copy=False)
     try:
-        uu, vv = np.broadcast_arrays(uu, vv)
+        np.broadcast_shapes(uu.shape, vv.shape)
     except ValueError:
         raise ValueError(f"u and v must broadcast against each other; got shapes {uu.shape} and {vv.shape}") from None
-    return _in_interval(uu, domain[0], "u", atol), _in_interval(vv, domain[1], "v", atol)
+    # checked (and clipped where rounding put them outside) before they are broadcast: a scalar u is clipped alone
+    return tuple(np.broadcast_arrays(_in_interval(uu, domain[0], "u", atol), _in_interval(vv, domain[1], "v", atol)))
 
 
 def as_parameter_vector(t, interval, name, *, atol=1e-12):
@@ -196,7 +197,10 @@ def _in_interval(arr, interval, name, atol):
     slack = atol * max(1.0, hi - lo)
     if low < lo - slack or high > hi + slack:
         raise ValueError(f"{name} must lie in the domain [{lo:g}, {hi:g}]; got values in [{low:g}, {high:g}]")
-    return np.clip(arr, lo, hi) if (low < lo or high > hi) else arr
+    if low < lo or high > hi:  # the clipped copy: estimated first (a broadcast view may stand for a huge array)
+        check_memory(8 * arr.size, f"clipping {format_count(arr.size)} values of {name} onto the domain", None)
+        return np.clip(arr, lo, hi)
+    return arr
 
 
 #: The smallest positive normal float: below it (subnormal numbers) 1/x overflows and products lose digits.

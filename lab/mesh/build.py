@@ -151,6 +151,9 @@ def grid_mesh(points, point_data=None, weld_points=True, first_data=None, grid_s
                     data[k] = _average(labels, n, v)
             first = {k: v[_first_of(labels, n)] for k, v in first.items()}
     mesh = pv.PolyData(flat_points, _faces_without_collapsed_edges(quads))
+    if len(flat_points) and not np.isfinite(flat_points).all(axis=1).any():  # a function undefined everywhere
+        raise ValueError(f"nothing to draw: the surface is not finite at any of its {len(flat_points)} points (its "
+                         "function is not defined there, or exceeds the float range)")
     if len(flat_points) and np.all(flat_points == flat_points[0]):  # every point the same: nothing has an area
         raise ValueError(f"nothing to draw: all points of the surface coincide at "
                          f"({', '.join(f'{x:.6g}' for x in flat_points[0])}) (a surface of zero size)")
