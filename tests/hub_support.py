@@ -76,8 +76,18 @@ def jupyterhub(root, students, files=()):
 
 def login(context, hub, user, timeout_ms=240_000):
     """Log ``user`` in through the hub's login form in a new page of ``context``; returns the page."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
     page = context.new_page()
-    page.goto(f"{hub}/hub/login")
+    for attempt in range(3):  # a loaded hub's proxy may answer a first request with an error page (CI saw one once)
+        page.goto(f"{hub}/hub/login")
+        try:
+            page.wait_for_selector("input[name=username]", timeout=60_000)
+            break
+        except PlaywrightTimeout:
+            if attempt == 2:
+                raise AssertionError(f"the hub's login form did not appear in 3 tries; the page said: "
+                                     f"{page.inner_text('body')[:500]!r}") from None
     page.fill("input[name=username]", user)
     page.fill("input[name=password]", "lab")
     page.click("input[type=submit], button[type=submit]")
